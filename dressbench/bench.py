@@ -1,0 +1,62 @@
+"""Speed of the physics: the cloth alone and the whole scene step, at several resolutions."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from .observation import human_observation
+from .scene.garment import GownConfig
+from .scene.world import Scene, SceneConfig
+from .state import measure
+
+# The gripper in front of the right shoulder, the sleeve pointing away from the human.
+BENCH_GRIPPER = np.array([0.45, -0.19, 0.52, 0.0, 0.0, 0.0, 1.0])
+
+
+def reach_action(step: int, period: int = 200) -> np.ndarray:
+    """A scripted right arm that swings forward to shoulder height, reaching straight ahead
+    through the sleeve held in front of the shoulder, and back (a period of ``period`` steps)."""
+    phase = 0.5 - 0.5 * np.cos(2.0 * np.pi * step / period)
+    action = np.zeros(11)
+    action[5] = -0.45 * phase  # shoulder elevation: from hanging to horizontal
+    action[7] = 0.66 * phase  # shoulder swing: from the side to straight ahead
+    action[8] = -phase  # elbow: straighten
+    return action
+
+
+def bench_scene(vertices: int, steps: int, device: str = "cpu") -> list[dict]:
+    """Time the cloth alone and the whole step for one resolution; one row per measurement."""
+    config = replace(SceneConfig(device=device), gown=GownConfig(target_vertices=vertices))
+    scene = Scene(config)
+    n_vertices = len(scene.gown.positions)
+    rows = []
+
+    scene.reset(BENCH_GRIPPER)
+    start = time.perf_counter()
+    for _ in range(steps * config.frame_skip):
+        scene.cloth.step()
+    rows.append(_row(n_vertices, "cloth", steps, time.perf_counter() - start))
+
+    scene.reset(BENCH_GRIPPER)
+    start = time.perf_counter()
+    for k in range(steps):
+        scene.step(reach_action(k), BENCH_GRIPPER)
+        human_observation(scene, measure(scene))
+    elapsed = time.perf_counter() - start
+    rows.append(_row(n_vertices, "scene", steps, elapsed, failed=scene.failed))
+    return rows
+
+
+def _row(vertices: int, what: str, steps: int, seconds: float, failed: bool = False) -> dict:
+    return {
+        "vertices": vertices,
+        "what": what,
+        "steps": steps,
+        "seconds": round(seconds, 4),
+        "steps_per_second": round(steps / seconds, 1),
+        "ms_per_step": round(1e3 * seconds / steps, 3),
+        "sim_failure": failed,
+    }

@@ -1,0 +1,52 @@
+"""The human's observation (paper §III-C): 163 numbers for the complete model.
+
+Order: cos q (22), sin q (22), q-dot (22), feature centroid (3), fingertip - centroid (3),
+haptic forces (22 x 3), contact surface signs (22), task vector (3). The ablations drop blocks:
+``no_haptics`` the forces and signs (75 numbers left), ``no_task`` the task vector (160).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .scene.world import Scene
+from .state import DressingState
+
+ABLATIONS = ("complete", "no_haptics", "no_task")
+N_DOFS = 22
+N_SENSORS = 22
+
+
+def observation_size(ablation: str = "complete") -> int:
+    """Length of the observation vector for an ablation."""
+    check_ablation(ablation)
+    size = 3 * N_DOFS + 6 + 4 * N_SENSORS + 3
+    if ablation == "no_haptics":
+        size -= 4 * N_SENSORS
+    elif ablation == "no_task":
+        size -= 3
+    return size
+
+
+def check_ablation(ablation: str) -> None:
+    if ablation not in ABLATIONS:
+        raise ValueError(f"unknown ablation {ablation!r}: choose one of {', '.join(ABLATIONS)}")
+
+
+def surface_signs(sides: np.ndarray, forces: np.ndarray, eps: float = 1e-9) -> np.ndarray:
+    """+1 inner-surface contact, -1 outer, 0 none, per sensor."""
+    touching = np.linalg.norm(forces, axis=1) > eps
+    return np.where(touching, np.sign(sides), 0.0)
+
+
+def human_observation(scene: Scene, state: DressingState, ablation: str = "complete") -> np.ndarray:
+    """The observation vector for the human policy."""
+    q, dq = scene.human.q, scene.human.dq
+    centroid = state.plane.centroid
+    blocks = [np.cos(q), np.sin(q), dq, centroid, state.joints[0] - centroid]
+    if ablation != "no_haptics":
+        forces = scene.haptic_forces
+        blocks += [forces.ravel(), surface_signs(scene.haptic_sides, forces)]
+    if ablation != "no_task":
+        blocks.append(state.task_vector)
+    return np.concatenate(blocks).astype(np.float32)

@@ -1,0 +1,692 @@
+"""Position-based (XPBD) cloth in Warp kernels, with two-way capsule contact and friction.
+
+One ``step(dt)`` advances the cloth by one simulation step: integrate, drive the pinned
+vertices with the gripper, then iterate distance constraints (stretch + bending), tethers to the
+pinned vertices, and capsule collisions; finally velocity update with Coulomb friction and the
+contact wrenches that go back to the body. All of it is captured once as a Warp graph, so a step
+is a single replay. The distance constraints run Gauss-Seidel in colour order: constraints of one
+colour share no vertex, so each colour is race-free in parallel on CUDA, and on the CPU (where a
+kernel runs serially) the independence of neighbours keeps the pipeline full.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import warp as wp
+
+_CACHE = os.environ.get(
+    "DRESSBENCH_WARP_CACHE", str(Path.home() / ".cache" / "dressbench" / "warp")
+)
+wp.config.kernel_cache_dir = _CACHE
+wp.config.quiet = True
+
+MAX_CAPSULES = 32  # the broadphase keeps one bit per capsule in an int32
+
+
+@dataclass(frozen=True)
+class ClothConfig:
+    """Solver settings; see docs/cloth.md for how they were chosen."""
+
+    iterations: int = 10  # constraint iterations per substep
+    substeps: int = 1  # substeps per simulation step
+    stretch_compliance: float = 1e-7  # m/N, XPBD compliance of mesh edges (near inextensible)
+    bend_compliance: float = 0.5  # m/N, of the cross edges that resist folding (soft)
+    bend_iterations: int = 3  # bending is soft: it converges in the first few iterations
+    tether_slack: float = 0.02  # tethers allow this fraction beyond the rest geodesic length
+    thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
+    friction: float = 0.5  # Coulomb coefficient between cloth and skin
+    damping: float = 0.1  # 1/s, linear velocity damping (air drag)
+    pin_stiffness: float = 2000.0  # N/m, penalty of a gripper-held vertex against a capsule
+    broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+
+
+@wp.func
+def closest_on_segment(p: wp.vec3, a: wp.vec3, b: wp.vec3) -> float:
+    ab = b - a
+    denom = wp.dot(ab, ab)
+    if denom < 1.0e-12:
+        return 0.0
+    return wp.clamp(wp.dot(p - a, ab) / denom, 0.0, 1.0)
+
+
+@wp.kernel
+def _integrate(
+    x: wp.array(dtype=wp.vec3),
+    x_prev: wp.array(dtype=wp.vec3),
+    v: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    gravity: wp.vec3,
+    damping: float,
+    h: float,
+    contact_cap: wp.array(dtype=int),
+    contact_push: wp.array(dtype=wp.vec3),
+):
+    i = wp.tid()
+    x_prev[i] = x[i]
+    contact_cap[i] = -1
+    contact_push[i] = wp.vec3(0.0)
+    if inv_mass[i] > 0.0:
+        vi = (v[i] + gravity * h) * wp.max(0.0, 1.0 - damping * h)
+        v[i] = vi
+        x[i] = x[i] + vi * h
+
+
+@wp.kernel
+def _drive_pins(
+    x: wp.array(dtype=wp.vec3),
+    pin_index: wp.array(dtype=int),
+    pin_local: wp.array(dtype=wp.vec3),
+    gripper_prev: wp.array(dtype=wp.transform),
+    gripper: wp.array(dtype=wp.transform),
+    alpha: wp.array(dtype=float),
+    substep: int,
+):
+    k = wp.tid()
+    t = alpha[substep]
+    pa = wp.transform_point(gripper_prev[0], pin_local[k])
+    pb = wp.transform_point(gripper[0], pin_local[k])
+    x[pin_index[k]] = pa + (pb - pa) * t
+
+
+@wp.kernel
+def _broadphase(
+    x: wp.array(dtype=wp.vec3),
+    cap_a: wp.array(dtype=wp.vec3),
+    cap_b: wp.array(dtype=wp.vec3),
+    cap_r: wp.array(dtype=float),
+    n_caps: int,
+    reach: float,
+    mask: wp.array(dtype=int),
+):
+    i = wp.tid()
+    p = x[i]
+    m = 0
+    for c in range(n_caps):
+        a = cap_a[c]
+        b = cap_b[c]
+        r = cap_r[c] + reach
+        lo = wp.min(a, b) - wp.vec3(r)
+        hi = wp.max(a, b) + wp.vec3(r)
+        if (
+            p[0] > lo[0]
+            and p[1] > lo[1]
+            and p[2] > lo[2]
+            and p[0] < hi[0]
+            and p[1] < hi[1]
+            and p[2] < hi[2]
+        ):
+            t = closest_on_segment(p, a, b)
+            if wp.length(p - (a + (b - a) * t)) < r:
+                m = m | (1 << c)
+    mask[i] = m
+
+
+@wp.kernel
+def _zero_float(a: wp.array(dtype=float)):
+    a[wp.tid()] = 0.0
+
+
+@wp.kernel
+def _zero_vec3(a: wp.array(dtype=wp.vec3)):
+    a[wp.tid()] = wp.vec3(0.0)
+
+
+@wp.func
+def _distance_delta(
+    xi: wp.vec3, xj: wp.vec3, wi: float, wj: float, rest: float, alpha: float, lam: float
+) -> wp.vec4:
+    """XPBD distance constraint: returns (correction direction * dlambda, dlambda)."""
+    d = xi - xj
+    length = wp.length(d)
+    w = wi + wj
+    if length < 1.0e-9 or w + alpha == 0.0:
+        return wp.vec4(0.0)
+    n = d / length
+    dlam = (-(length - rest) - alpha * lam) / (w + alpha)
+    return wp.vec4(n[0] * dlam, n[1] * dlam, n[2] * dlam, dlam)
+
+
+@wp.kernel
+def _solve_distance(
+    x: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    pairs: wp.array(dtype=wp.vec2i),
+    rest: wp.array(dtype=float),
+    alpha: wp.array(dtype=float),
+    lam: wp.array(dtype=float),
+    offset: int,
+):
+    k = wp.tid() + offset
+    i = pairs[k][0]
+    j = pairs[k][1]
+    wi = inv_mass[i]
+    wj = inv_mass[j]
+    r = _distance_delta(x[i], x[j], wi, wj, rest[k], alpha[k], lam[k])
+    corr = wp.vec3(r[0], r[1], r[2])
+    lam[k] = lam[k] + r[3]
+    x[i] = x[i] + corr * wi
+    x[j] = x[j] - corr * wj
+
+
+@wp.kernel
+def _solve_tethers(
+    x: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    anchor: wp.array(dtype=int),
+    max_length: wp.array(dtype=float),
+):
+    i = wp.tid()
+    a = anchor[i]
+    if a < 0 or inv_mass[i] == 0.0:
+        return
+    d = x[i] - x[a]
+    length = wp.length(d)
+    if length > max_length[i]:
+        x[i] = x[a] + d * (max_length[i] / length)
+
+
+@wp.kernel
+def _collide(
+    x: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    mask: wp.array(dtype=int),
+    cap_a: wp.array(dtype=wp.vec3),
+    cap_b: wp.array(dtype=wp.vec3),
+    cap_r: wp.array(dtype=float),
+    n_caps: int,
+    thickness: float,
+    contact_cap: wp.array(dtype=int),
+    contact_push: wp.array(dtype=wp.vec3),
+):
+    i = wp.tid()
+    m = mask[i]
+    if m == 0 or inv_mass[i] == 0.0:
+        return
+    p = x[i]
+    for c in range(n_caps):
+        if (m >> c) & 1:
+            t = closest_on_segment(p, cap_a[c], cap_b[c])
+            q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
+            d = p - q
+            dist = wp.length(d)
+            r = cap_r[c] + thickness
+            if dist < r:
+                n = wp.vec3(0.0, 0.0, 1.0)
+                if dist > 1.0e-9:
+                    n = d / dist
+                push = n * (r - dist)
+                p = p + push
+                contact_push[i] = contact_push[i] + push
+                contact_cap[i] = c
+    x[i] = p
+
+
+@wp.kernel
+def _finish(
+    x: wp.array(dtype=wp.vec3),
+    x_prev: wp.array(dtype=wp.vec3),
+    v: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    mass: wp.array(dtype=float),
+    cap_a: wp.array(dtype=wp.vec3),
+    cap_b: wp.array(dtype=wp.vec3),
+    cap_a_prev: wp.array(dtype=wp.vec3),
+    cap_b_prev: wp.array(dtype=wp.vec3),
+    cap_r: wp.array(dtype=float),
+    n_caps: int,
+    h: float,
+    mu: float,
+    pin_stiffness: float,
+    contact_cap: wp.array(dtype=int),
+    contact_push: wp.array(dtype=wp.vec3),
+    contact_force: wp.array(dtype=wp.vec3),
+    contact_point: wp.array(dtype=wp.vec3),
+):
+    """New velocities with friction; the force each contact puts on the body."""
+    i = wp.tid()
+    vi = (x[i] - x_prev[i]) / h
+    f = wp.vec3(0.0)
+    c = contact_cap[i]
+    if inv_mass[i] == 0.0:
+        # a gripper-held vertex is rigid: the body meets it as a stiff penalty spring
+        vi = wp.vec3(0.0)
+        for k in range(n_caps):
+            t = closest_on_segment(x[i], cap_a[k], cap_b[k])
+            q = cap_a[k] + (cap_b[k] - cap_a[k]) * t
+            d = x[i] - q
+            dist = wp.length(d)
+            if dist < cap_r[k] and dist > 1.0e-9:
+                n = d / dist
+                f = f - n * (pin_stiffness * (cap_r[k] - dist))
+                c = k
+        contact_cap[i] = c
+        if c >= 0:
+            t = closest_on_segment(x[i], cap_a[c], cap_b[c])
+            contact_point[i] = cap_a[c] + (cap_b[c] - cap_a[c]) * t
+    elif c >= 0:
+        t = closest_on_segment(x[i], cap_a[c], cap_b[c])
+        q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
+        vs = ((cap_a[c] - cap_a_prev[c]) * (1.0 - t) + (cap_b[c] - cap_b_prev[c]) * t) / h
+        d = x[i] - q
+        n = wp.normalize(d)
+        vrel = vi - vs
+        vn = wp.dot(vrel, n)
+        vt = vrel - n * vn
+        vt_len = wp.length(vt)
+        dvn = wp.length(contact_push[i]) / h
+        dv_friction = wp.vec3(0.0)
+        if vt_len > 1.0e-9:
+            dv_friction = -vt * wp.min(1.0, mu * dvn / vt_len)
+        vi = vi + dv_friction
+        # the cloth's momentum change from contact, returned to the body with opposite sign
+        f = -(contact_push[i] / h + dv_friction) * (mass[i] / h)
+        contact_point[i] = q + n * cap_r[c]
+    v[i] = vi
+    contact_force[i] = f
+
+
+@wp.kernel
+def _vertex_normals(
+    x: wp.array(dtype=wp.vec3), tris: wp.array(dtype=wp.vec3i), normals: wp.array(dtype=wp.vec3)
+):
+    k = wp.tid()
+    a = tris[k][0]
+    b = tris[k][1]
+    c = tris[k][2]
+    n = wp.cross(x[b] - x[a], x[c] - x[a])
+    wp.atomic_add(normals, a, n)
+    wp.atomic_add(normals, b, n)
+    wp.atomic_add(normals, c, n)
+
+
+@wp.kernel
+def _aggregate(
+    x: wp.array(dtype=wp.vec3),
+    normals: wp.array(dtype=wp.vec3),
+    contact_cap: wp.array(dtype=int),
+    contact_force: wp.array(dtype=wp.vec3),
+    contact_point: wp.array(dtype=wp.vec3),
+    cap_body: wp.array(dtype=int),
+    body_origin: wp.array(dtype=wp.vec3),
+    sensors: wp.array(dtype=wp.vec3),
+    n_sensors: int,
+    effector_body: int,
+    weight: float,
+    body_force: wp.array(dtype=wp.vec3),
+    body_torque: wp.array(dtype=wp.vec3),
+    sensor_force: wp.array(dtype=wp.vec3),
+    sensor_side: wp.array(dtype=float),
+    effector_contact: wp.array(dtype=int),
+):
+    """Sum each contact into its body's wrench and its nearest haptic sensor."""
+    i = wp.tid()
+    c = contact_cap[i]
+    if c < 0:
+        return
+    b = cap_body[c]
+    f = contact_force[i] * weight
+    p = contact_point[i]
+    wp.atomic_add(body_force, b, f)
+    wp.atomic_add(body_torque, b, wp.cross(p - body_origin[b], f))
+    best = 0
+    best_d = 1.0e30
+    for s in range(n_sensors):
+        d = wp.length_sq(sensors[s] - p)
+        if d < best_d:
+            best_d = d
+            best = s
+    wp.atomic_add(sensor_force, best, f)
+    # force on the cloth is -f: along the outward normal means pushed from inside
+    wp.atomic_add(sensor_side, best, -wp.dot(f, wp.normalize(normals[i])))
+    if b == effector_body:
+        effector_contact[i] = 1
+
+
+def color_constraints(pairs: np.ndarray) -> np.ndarray:
+    """Greedy colouring: no two constraints of one colour share a vertex (construction only)."""
+    used: dict[int, int] = {}
+    colors = np.empty(len(pairs), dtype=np.int64)
+    for k, (i, j) in enumerate(pairs.tolist()):
+        taken = used.get(i, 0) | used.get(j, 0)
+        c = (~taken & (taken + 1)).bit_length() - 1  # lowest free colour
+        colors[k] = c
+        used[i] = used.get(i, 0) | (1 << c)
+        used[j] = used.get(j, 0) | (1 << c)
+    return colors
+
+
+def _write(array: wp.array, data: np.ndarray) -> None:
+    """Copy host data into a Warp array: in place through a cached view on the CPU."""
+    if array.device.is_cpu:
+        view = getattr(array, "_host_view", None)
+        if view is None:
+            view = array._host_view = array.numpy()
+        view[...] = data
+    else:
+        array.assign(np.ascontiguousarray(data, dtype=np.float32))
+
+
+class _DistanceSet:
+    """One family of XPBD distance constraints (stretch or bending), sorted by colour."""
+
+    def __init__(self, pairs, rest, alpha_tilde: float, arr, device) -> None:
+        pairs = np.asarray(pairs, dtype=np.int32).reshape(-1, 2)
+        colors = color_constraints(pairs)
+        order = np.argsort(colors, kind="stable")
+        counts = np.bincount(colors, minlength=1)
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        self.color_ranges = list(zip(starts.tolist(), counts.tolist(), strict=True))
+        self.size = len(pairs)
+        self.pairs = arr(pairs[order], wp.vec2i)
+        self.rest = arr(np.asarray(rest)[order], float)
+        self.alpha = arr(np.full(self.size, alpha_tilde), float)
+        self.lam = wp.zeros(self.size, dtype=float, device=device)
+
+
+class Cloth:
+    """Cloth state on a Warp device and its captured step graph."""
+
+    def __init__(
+        self,
+        positions: np.ndarray,
+        masses: np.ndarray,
+        triangles: np.ndarray,
+        edges: np.ndarray,
+        edge_rest: np.ndarray,
+        bend_pairs: np.ndarray,
+        bend_rest: np.ndarray,
+        pinned: np.ndarray,
+        tether_anchor: np.ndarray,
+        tether_length: np.ndarray,
+        n_bodies: int,
+        n_sensors: int,
+        effector_body: int,
+        capsule_body: np.ndarray,
+        capsule_radius: np.ndarray,
+        config: ClothConfig = ClothConfig(),
+        dt: float = 0.01,
+        device: str = "cpu",
+    ) -> None:
+        if len(capsule_radius) > MAX_CAPSULES:
+            raise ValueError(f"at most {MAX_CAPSULES} capsules, got {len(capsule_radius)}")
+        wp.init()
+        self.config = config
+        self.device = wp.get_device(device)
+        self.dt = dt
+        self.n = len(positions)
+        self.n_caps = len(capsule_radius)
+        self.n_bodies = n_bodies
+        self.n_sensors = n_sensors
+        self.effector_body = effector_body
+        self.pinned = np.asarray(pinned, dtype=np.int32)
+        self.triangles = np.asarray(triangles, dtype=np.int32)
+        d = self.device
+
+        def arr(a, dtype):
+            return wp.array(np.ascontiguousarray(a), dtype=dtype, device=d)
+
+        inv_mass = np.where(masses > 0, 1.0 / np.maximum(masses, 1e-12), 0.0)
+        inv_mass[self.pinned] = 0.0
+        h = dt / config.substeps
+        self.x = arr(positions, wp.vec3)
+        self.x_prev = arr(positions, wp.vec3)
+        self.v = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.inv_mass = arr(inv_mass, float)
+        self.mass = arr(masses, float)
+        self.constraint_sets = [
+            _DistanceSet(edges, edge_rest, config.stretch_compliance / h**2, arr, d),
+            _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, arr, d),
+        ]
+        self.anchor = arr(tether_anchor, int)
+        self.tether_length = arr(tether_length * (1.0 + config.tether_slack), float)
+        self.tris = arr(self.triangles, wp.vec3i)
+        self.pin_index = arr(self.pinned, int)
+        self.pin_local = arr(positions[self.pinned], wp.vec3)
+        identity = np.array([[0, 0, 0, 0, 0, 0, 1]], dtype=np.float32)
+        self.gripper = arr(identity, wp.transform)
+        self.gripper_prev = arr(identity, wp.transform)
+        self.alpha_sub = arr(np.arange(1, config.substeps + 1) / config.substeps, float)
+        self.cap_a = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
+        self.cap_b = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
+        self.cap_a_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
+        self.cap_b_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
+        self.cap_r = arr(capsule_radius, float)
+        self.cap_body = arr(capsule_body, int)
+        self.mask = wp.zeros(self.n, dtype=int, device=d)
+        self.contact_cap = wp.full(self.n, -1, dtype=int, device=d)
+        self.contact_push = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.contact_force = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.contact_point = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.normals = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.body_origin = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
+        self.body_force = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
+        self.body_torque = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
+        self.sensors = wp.zeros(n_sensors, dtype=wp.vec3, device=d)
+        self.sensor_force = wp.zeros(n_sensors, dtype=wp.vec3, device=d)
+        self.sensor_side = wp.zeros(n_sensors, dtype=float, device=d)
+        self.effector_contact = wp.zeros(self.n, dtype=int, device=d)
+        self._graph = None
+
+    # ----------------------------------------------------------------------------- inputs
+    def set_state(self, positions: np.ndarray, velocities: np.ndarray | None = None) -> None:
+        """Overwrite vertex positions (and velocities, default zero)."""
+        _write(self.x, positions)
+        _write(self.v, np.zeros_like(positions) if velocities is None else velocities)
+
+    def set_gripper(self, previous: np.ndarray, current: np.ndarray) -> None:
+        """Gripper poses (x, y, z, qx, qy, qz, qw) at the start and end of the next step."""
+        _write(self.gripper_prev, np.asarray(previous)[None])
+        _write(self.gripper, np.asarray(current)[None])
+
+    def set_body(
+        self,
+        capsules_prev: np.ndarray,
+        capsules: np.ndarray,
+        body_origins: np.ndarray,
+        sensors: np.ndarray,
+    ) -> None:
+        """Capsule endpoints (C, 2, 3) at the start and end of the next step, and frames."""
+        _write(self.cap_a_prev, capsules_prev[:, 0])
+        _write(self.cap_b_prev, capsules_prev[:, 1])
+        _write(self.cap_a, capsules[:, 0])
+        _write(self.cap_b, capsules[:, 1])
+        _write(self.body_origin, body_origins)
+        _write(self.sensors, sensors)
+
+    def clear_haptics(self) -> None:
+        """Start a new accumulation of sensor forces and end-effector contacts."""
+        self.sensor_force.zero_()
+        self.sensor_side.zero_()
+        self.effector_contact.zero_()
+
+    # ----------------------------------------------------------------------------- stepping
+    def step(self) -> None:
+        """Advance by dt (captured as a graph on first use, replayed after)."""
+        if self._graph is None:
+            wp.load_module(__name__, device=self.device)  # compile outside the capture
+            with wp.ScopedCapture(device=self.device) as capture:
+                self._launch_step()
+            self._graph = capture.graph
+        wp.capture_launch(self._graph)
+
+    def _launch_step(self) -> None:
+        cfg = self.config
+        d = self.device
+        n = self.n
+        h = self.dt / cfg.substeps
+        caps = (self.cap_a, self.cap_b, self.cap_r, self.n_caps)
+        wp.launch(_zero_vec3, self.n_bodies, [self.body_force], device=d)
+        wp.launch(_zero_vec3, self.n_bodies, [self.body_torque], device=d)
+        for s in range(cfg.substeps):
+            wp.launch(
+                _integrate,
+                n,
+                [
+                    self.x,
+                    self.x_prev,
+                    self.v,
+                    self.inv_mass,
+                    wp.vec3(*cfg.gravity),
+                    cfg.damping,
+                    h,
+                    self.contact_cap,
+                    self.contact_push,
+                ],
+                device=d,
+            )
+            wp.launch(
+                _drive_pins,
+                len(self.pinned),
+                [
+                    self.x,
+                    self.pin_index,
+                    self.pin_local,
+                    self.gripper_prev,
+                    self.gripper,
+                    self.alpha_sub,
+                    s,
+                ],
+                device=d,
+            )
+            wp.launch(
+                _broadphase,
+                n,
+                [self.x, *caps, cfg.thickness + cfg.broadphase_margin, self.mask],
+                device=d,
+            )
+            for cs in self.constraint_sets:
+                wp.launch(_zero_float, cs.size, [cs.lam], device=d)
+            for it in range(cfg.iterations):
+                stretch, bend = self.constraint_sets
+                self._solve(stretch)
+                if it < cfg.bend_iterations:
+                    self._solve(bend)
+                wp.launch(
+                    _solve_tethers,
+                    n,
+                    [self.x, self.inv_mass, self.anchor, self.tether_length],
+                    device=d,
+                )
+                wp.launch(
+                    _collide,
+                    n,
+                    [
+                        self.x,
+                        self.inv_mass,
+                        self.mask,
+                        *caps,
+                        cfg.thickness,
+                        self.contact_cap,
+                        self.contact_push,
+                    ],
+                    device=d,
+                )
+            wp.launch(
+                _finish,
+                n,
+                [
+                    self.x,
+                    self.x_prev,
+                    self.v,
+                    self.inv_mass,
+                    self.mass,
+                    self.cap_a,
+                    self.cap_b,
+                    self.cap_a_prev,
+                    self.cap_b_prev,
+                    self.cap_r,
+                    self.n_caps,
+                    h,
+                    cfg.friction,
+                    cfg.pin_stiffness,
+                    self.contact_cap,
+                    self.contact_push,
+                    self.contact_force,
+                    self.contact_point,
+                ],
+                device=d,
+            )
+            wp.launch(_zero_vec3, n, [self.normals], device=d)
+            wp.launch(
+                _vertex_normals, len(self.triangles), [self.x, self.tris, self.normals], device=d
+            )
+            wp.launch(
+                _aggregate,
+                n,
+                [
+                    self.x,
+                    self.normals,
+                    self.contact_cap,
+                    self.contact_force,
+                    self.contact_point,
+                    self.cap_body,
+                    self.body_origin,
+                    self.sensors,
+                    self.n_sensors,
+                    self.effector_body,
+                    1.0 / cfg.substeps,
+                    self.body_force,
+                    self.body_torque,
+                    self.sensor_force,
+                    self.sensor_side,
+                    self.effector_contact,
+                ],
+                device=d,
+            )
+            # the body wrench is the substep average; the sensors accumulate over steps
+
+    def _solve(self, cs: _DistanceSet) -> None:
+        """Gauss-Seidel over the constraints, colour by colour.
+
+        Constraints of one colour share no vertex, so a colour is race-free in parallel (one
+        launch per colour on CUDA); on the CPU the kernel runs serially, so one launch over all
+        colours in order is the same sweep, and the independence keeps the pipeline full.
+        """
+        ranges = cs.color_ranges if self.device.is_cuda else [(0, cs.size)]
+        for start, count in ranges:
+            if count:
+                wp.launch(
+                    _solve_distance,
+                    count,
+                    [self.x, self.inv_mass, cs.pairs, cs.rest, cs.alpha, cs.lam, start],
+                    device=self.device,
+                )
+
+    # ----------------------------------------------------------------------------- outputs
+    def positions(self) -> np.ndarray:
+        return self.x.numpy().astype(np.float64)
+
+    def velocities(self) -> np.ndarray:
+        return self.v.numpy().astype(np.float64)
+
+    def body_wrenches(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per-body force and torque (about the body origin) from the last step, world frame."""
+        return self.body_force.numpy().astype(np.float64), self.body_torque.numpy().astype(
+            np.float64
+        )
+
+    def haptics(self) -> tuple[np.ndarray, np.ndarray]:
+        """Summed sensor forces on the body and the signed inner/outer contact measure."""
+        return self.sensor_force.numpy().astype(np.float64), self.sensor_side.numpy().astype(
+            np.float64
+        )
+
+    def effector_contacts(self) -> np.ndarray:
+        """Indices of vertices that touched the end effector since ``clear_haptics``."""
+        return np.flatnonzero(self.effector_contact.numpy())
+
+    def contacts(self) -> dict[str, np.ndarray]:
+        """The last step's contacts: vertex, body, force on the body, and contact point."""
+        cap = self.contact_cap.numpy()
+        idx = np.flatnonzero(cap >= 0)
+        return {
+            "vertex": idx,
+            "body": self.cap_body.numpy()[cap[idx]],
+            "force": self.contact_force.numpy()[idx].astype(np.float64),
+            "point": self.contact_point.numpy()[idx].astype(np.float64),
+        }

@@ -1,0 +1,228 @@
+"""One coupled dressing scene: the DART human, the Warp gown, and the gripper that holds it.
+
+A ``Scene.step`` is one policy step: ``frame_skip`` simulation steps of ``dt`` each. In every
+simulation step the human moves first (PD control plus the cloth's contact wrenches from the
+previous step), then the cloth moves against the human's new capsules and the gripper's pose.
+Contact forces are summed into the haptic sensors over the policy step and averaged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from .cloth import Cloth, ClothConfig
+from .garment import Gown, GownConfig, make_gown
+from .human import Human, HumanConfig
+
+IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # x y z qx qy qz qw
+
+
+@dataclass(frozen=True)
+class SceneConfig:
+    """Physics settings of the whole scene (no RL here)."""
+
+    gown: GownConfig = field(default_factory=GownConfig)
+    cloth: ClothConfig = field(default_factory=ClothConfig)
+    human: HumanConfig = field(default_factory=HumanConfig)
+    dt: float = 0.01  # s, one simulation step
+    frame_skip: int = 4  # simulation steps per policy step
+    settle_steps: int = 200  # simulation steps to let the held gown come to rest, once
+    max_speed: float = 30.0  # m/s, a faster cloth vertex means the simulation ran away
+    max_distance: float = 3.0  # m from the gripper, a farther cloth vertex means the same
+    device: str = "cpu"
+
+
+@dataclass
+class StepInfo:
+    """What one policy step measured besides the state."""
+
+    sim_failure: bool = False
+    reason: str = ""
+
+
+class Scene:
+    """The coupled physics. Construct once, ``reset`` per episode, ``step`` per policy step."""
+
+    def __init__(self, config: SceneConfig = SceneConfig()) -> None:
+        self.config = config
+        self.gown: Gown = make_gown(config.gown)
+        self.human = Human(config.human, dt=config.dt)
+        g = self.gown
+        self.pinned = g.feature_loop  # the gripper holds the whole armhole ring
+        anchor, length = tethers(g, self.pinned)
+        self.cloth = Cloth(
+            g.positions,
+            g.masses,
+            g.triangles,
+            g.edges,
+            g.edge_rest,
+            g.bend_pairs,
+            g.bend_rest,
+            self.pinned,
+            anchor,
+            length,
+            n_bodies=len(self.human.body_names),
+            n_sensors=len(self.human.sensor_body),
+            effector_body=self.human.body_names.index("hand_r"),
+            capsule_body=self.human.capsule_body,
+            capsule_radius=self.human.capsule_radius,
+            config=config.cloth,
+            dt=config.dt,
+            device=config.device,
+        )
+        self._rest_shape = _settled_shape(self)
+        self.gripper_pose = IDENTITY_POSE.copy()
+        self.failed = False
+        self.failure_reason = ""
+        self.time = 0.0
+        self.haptic_forces = np.zeros((len(self.human.sensor_body), 3))
+        self.haptic_sides = np.zeros(len(self.human.sensor_body))
+
+    # ----------------------------------------------------------------------------- episode
+    def reset(self, gripper_pose: np.ndarray, human_q: np.ndarray | None = None) -> None:
+        """Human at rest (or ``human_q``); the settled gown held at ``gripper_pose``."""
+        self.human.reset(human_q)
+        self.gripper_pose = np.asarray(gripper_pose, dtype=float).copy()
+        self.cloth.set_state(transform_points(self.gripper_pose, self._rest_shape))
+        self.cloth.set_gripper(self.gripper_pose, self.gripper_pose)
+        self._transforms = self.human.body_transforms()
+        self._body_forces = np.zeros((len(self.human.body_names), 3))
+        self._body_torques = np.zeros_like(self._body_forces)
+        self.cloth.clear_haptics()
+        self.haptic_forces[:] = 0.0
+        self.haptic_sides[:] = 0.0
+        self.failed = False
+        self.failure_reason = ""
+        self.time = 0.0
+
+    def step(self, action: np.ndarray, gripper_pose: np.ndarray) -> StepInfo:
+        """Advance one policy step toward ``gripper_pose``; never raises on divergence."""
+        if self.failed:
+            return StepInfo(True, self.failure_reason)
+        self.human.set_action(action)
+        start, end = self.gripper_pose, np.asarray(gripper_pose, dtype=float)
+        self.cloth.clear_haptics()
+        n = self.config.frame_skip
+        for k in range(n):
+            g0, g1 = interpolate_pose(start, end, k / n), interpolate_pose(start, end, (k + 1) / n)
+            self._frame(g0, g1)
+        self.gripper_pose = end.copy()
+        forces, sides = self.cloth.haptics()
+        self.haptic_forces = forces / n
+        self.haptic_sides = sides
+        self.time += n * self.config.dt
+        reason = self._divergence()
+        if reason:
+            self.failed = True
+            self.failure_reason = reason
+        return StepInfo(self.failed, self.failure_reason)
+
+    def _frame(self, gripper_prev: np.ndarray, gripper: np.ndarray) -> None:
+        human = self.human
+        capsules_prev = human.capsules(self._transforms)
+        human.step(self._body_forces, self._body_torques)
+        T = human.body_transforms()
+        self._transforms = T
+        self.cloth.set_body(capsules_prev, human.capsules(T), T[:, :3, 3], human.sensors(T))
+        self.cloth.set_gripper(gripper_prev, gripper)
+        self.cloth.step()
+        self._body_forces, self._body_torques = self.cloth.body_wrenches()
+
+    def _divergence(self) -> str:
+        x = self.cloth.positions()
+        v = self.cloth.velocities()
+        if not (np.isfinite(x).all() and np.isfinite(v).all()):
+            return "non-finite cloth state"
+        if not self.human.is_finite():
+            return "non-finite human state"
+        if np.abs(v).max() > self.config.max_speed:
+            return f"cloth speed above {self.config.max_speed} m/s"
+        if np.linalg.norm(x - self.gripper_pose[:3], axis=1).max() > self.config.max_distance:
+            return f"cloth farther than {self.config.max_distance} m from the gripper"
+        return ""
+
+    # ----------------------------------------------------------------------------- state
+    @property
+    def transforms(self) -> np.ndarray:
+        return self._transforms
+
+    def cloth_positions(self) -> np.ndarray:
+        return self.cloth.positions()
+
+    def feature_positions(self, positions: np.ndarray | None = None) -> np.ndarray:
+        x = self.cloth.positions() if positions is None else positions
+        return x[self.gown.feature_loop]
+
+    def arm_chain(self) -> np.ndarray:
+        return self.human.arm_chain(self._transforms)
+
+    def effector_contacts(self) -> np.ndarray:
+        return self.cloth.effector_contacts()
+
+
+def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each vertex's nearest pinned vertex along the mesh, and that geodesic length."""
+    e = gown.edges
+    n = len(gown.pattern)
+    graph = coo_matrix(
+        (np.concatenate([gown.edge_rest] * 2), (np.r_[e[:, 0], e[:, 1]], np.r_[e[:, 1], e[:, 0]])),
+        shape=(n, n),
+    ).tocsr()
+    dist, _, source = dijkstra(graph, indices=pinned, min_only=True, return_predecessors=True)
+    anchor = np.where(np.isfinite(dist), source, -1).astype(np.int32)
+    anchor[pinned] = -1
+    return anchor, np.where(np.isfinite(dist), dist, 0.0)
+
+
+def transform_points(pose: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Apply a pose (x y z qx qy qz qw) to (N, 3) points."""
+    return points @ quat_matrix(pose[3:]).T + pose[:3]
+
+
+def quat_matrix(q: np.ndarray) -> np.ndarray:
+    x, y, z, w = q / np.linalg.norm(q)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def interpolate_pose(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
+    """Linear position, normalized-linear rotation (the robot moves slowly between steps)."""
+    qa, qb = a[3:], b[3:]
+    if qa @ qb < 0.0:
+        qb = -qb
+    q = (1.0 - t) * qa + t * qb
+    return np.concatenate([(1.0 - t) * a[:3] + t * b[:3], q / np.linalg.norm(q)])
+
+
+_SETTLED: dict[tuple, np.ndarray] = {}
+
+
+def _settled_shape(scene: Scene) -> np.ndarray:
+    """The gown hanging at rest from an identity gripper pose, simulated once per process."""
+    cfg = scene.config
+    key = (cfg.gown, cfg.cloth, cfg.settle_steps, cfg.dt, cfg.device)
+    if key not in _SETTLED:
+        cloth = scene.cloth
+        far = np.full((len(scene.human.capsule_radius), 2, 3), 100.0)
+        far[:, 1, 0] += 0.1
+        cloth.set_state(scene.gown.positions)
+        cloth.set_gripper(IDENTITY_POSE, IDENTITY_POSE)
+        cloth.set_body(
+            far,
+            far,
+            np.zeros((len(scene.human.body_names), 3)),
+            np.full((len(scene.human.sensor_body), 3), 100.0),
+        )
+        for _ in range(cfg.settle_steps):
+            cloth.step()
+        _SETTLED[key] = cloth.positions()
+    return _SETTLED[key]

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Set up dressbench in ./.venv on a fresh machine, then run the main job on small defaults.
+#   bash scripts/setup.sh            # install + main job
+#   bash scripts/setup.sh --no-run   # install only (what CI does)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PYTHON=${PYTHON:-python3}
+[ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
+.venv/bin/python -m pip install -q --upgrade pip
+# The CPU build of torch lies on this machine's disk; install it first so nothing else pulls
+# a multi-gigabyte CUDA build.
+.venv/bin/python -m pip install -q torch==2.13.0
+.venv/bin/python -m pip install -q -e ".[dev]"
+if [ "${1:-}" != "--no-run" ]; then
+    .venv/bin/dressbench bench --quick
+fi
