@@ -39,7 +39,7 @@ class ClothConfig:
     tether_slack: float = 0.02  # tethers allow this fraction beyond the rest geodesic length
     thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
     friction: float = 0.5  # Coulomb coefficient between cloth and skin
-    damping: float = 0.1  # 1/s, linear velocity damping (air drag)
+    damping: float = 2.0  # 1/s, linear velocity damping: air drag on a light fabric
     pin_stiffness: float = 2000.0  # N/m, penalty of a gripper-held vertex against a capsule
     broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
@@ -105,7 +105,7 @@ def _broadphase(
 ):
     i = wp.tid()
     p = x[i]
-    m = 0
+    m = int(0)
     for c in range(n_caps):
         a = cap_a[c]
         b = cap_b[c]
@@ -333,8 +333,8 @@ def _aggregate(
     p = contact_point[i]
     wp.atomic_add(body_force, b, f)
     wp.atomic_add(body_torque, b, wp.cross(p - body_origin[b], f))
-    best = 0
-    best_d = 1.0e30
+    best = int(0)
+    best_d = float(1.0e30)
     for s in range(n_sensors):
         d = wp.length_sq(sensors[s] - p)
         if d < best_d:

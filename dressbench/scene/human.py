@@ -291,6 +291,14 @@ class Human:
         rest, lo, hi = self.rest[i], self.lower[i], self.upper[i]
         self.target[i] = np.where(a >= 0.0, rest + a * (hi - rest), rest + a * (rest - lo))
 
+    def action_for(self, q_target: np.ndarray) -> np.ndarray:
+        """The PD action whose targets are ``q_target`` on the actuated DOFs (clipped to range)."""
+        i = self.actuated_index
+        rest, lo, hi = self.rest[i], self.lower[i], self.upper[i]
+        d = np.asarray(q_target, dtype=float)[i] - rest
+        a = np.where(d >= 0.0, d / (hi - rest), d / (rest - lo))
+        return np.clip(a, -1.0, 1.0)
+
     def step(self, body_forces: np.ndarray, body_torques: np.ndarray) -> None:
         """One DART step: fresh computed-torque PD, then the cloth's external wrenches."""
         skel = self.skeleton

@@ -15,7 +15,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from .cloth import Cloth, ClothConfig
-from .garment import Gown, GownConfig, make_gown
+from .garment import BACK, SEAM, Gown, GownConfig, make_gown
 from .human import Human, HumanConfig
 
 IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # x y z qx qy qz qw
@@ -81,6 +81,7 @@ class Scene:
         self.time = 0.0
         self.haptic_forces = np.zeros((len(self.human.sensor_body), 3))
         self.haptic_sides = np.zeros(len(self.human.sensor_body))
+        self.contact_force = np.zeros(3)  # total cloth force on the body, mean over the step
 
     # ----------------------------------------------------------------------------- episode
     def reset(self, gripper_pose: np.ndarray, human_q: np.ndarray | None = None) -> None:
@@ -95,6 +96,7 @@ class Scene:
         self.cloth.clear_haptics()
         self.haptic_forces[:] = 0.0
         self.haptic_sides[:] = 0.0
+        self.contact_force = np.zeros(3)
         self.failed = False
         self.failure_reason = ""
         self.time = 0.0
@@ -107,9 +109,11 @@ class Scene:
         start, end = self.gripper_pose, np.asarray(gripper_pose, dtype=float)
         self.cloth.clear_haptics()
         n = self.config.frame_skip
+        self.contact_force = np.zeros(3)
         for k in range(n):
             g0, g1 = interpolate_pose(start, end, k / n), interpolate_pose(start, end, (k + 1) / n)
             self._frame(g0, g1)
+            self.contact_force += self._body_forces.sum(axis=0) / n
         self.gripper_pose = end.copy()
         forces, sides = self.cloth.haptics()
         self.haptic_forces = forces / n
@@ -165,17 +169,31 @@ class Scene:
 
 
 def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each vertex's nearest pinned vertex along the mesh, and that geodesic length."""
+    """Each vertex's tether: its nearest pinned vertex and the geodesic length to it.
+
+    Where a vertex and a pinned vertex lie on one sheet of the flat pattern, not across the open
+    back, the straight pattern distance is the exact geodesic; elsewhere the shortest path along
+    mesh edges (a few percent long) bounds it. A tether that is too long lets the gown sag.
+    """
     e = gown.edges
     n = len(gown.pattern)
     graph = coo_matrix(
         (np.concatenate([gown.edge_rest] * 2), (np.r_[e[:, 0], e[:, 1]], np.r_[e[:, 1], e[:, 0]])),
         shape=(n, n),
     ).tocsr()
-    dist, _, source = dijkstra(graph, indices=pinned, min_only=True, return_predecessors=True)
-    anchor = np.where(np.isfinite(dist), source, -1).astype(np.int32)
+    along_edges = dijkstra(graph, indices=pinned)  # (P, V)
+    straight = np.linalg.norm(gown.pattern[None, :] - gown.pattern[pinned, None], axis=-1)
+    sheet, p_sheet = gown.sheet[None, :], gown.sheet[pinned, None]
+    same_sheet = (sheet == p_sheet) | (sheet == SEAM) | (p_sheet == SEAM)
+    across_slit = (
+        ((sheet == BACK) | (p_sheet == BACK))
+        & (np.sign(gown.pattern[None, :, 0]) * np.sign(gown.pattern[pinned, None, 0]) < 0)
+    )
+    length = np.where(same_sheet & ~across_slit, np.minimum(straight, along_edges), along_edges)
+    nearest = np.argmin(length, axis=0)
+    anchor = pinned[nearest].astype(np.int32)
     anchor[pinned] = -1
-    return anchor, np.where(np.isfinite(dist), dist, 0.0)
+    return anchor, length[nearest, np.arange(n)]
 
 
 def transform_points(pose: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -1,0 +1,152 @@
+"""The coupled scene: the gown hangs and settles, the sleeve goes over an arm, the cloth pushes
+back, the same inputs give the same trajectory, and bad input is refused or flagged."""
+
+import numpy as np
+import pytest
+
+from dressbench.bench import reach_action
+from dressbench.scene.world import Scene, transform_points
+from dressbench.state import measure
+
+FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # the sleeve points forward, away from the human
+SHOULDER = np.array([0.0, -0.19, 0.5])
+
+
+def pose(position, quaternion=FRONT) -> np.ndarray:
+    return np.concatenate([position, quaternion])
+
+
+@pytest.fixture(scope="module")
+def scene() -> Scene:
+    return Scene()
+
+
+def outstretched(scene: Scene) -> np.ndarray:
+    """Right arm straight ahead at shoulder height, everything else at rest."""
+    q = scene.human.rest.copy()
+    q[8:12] = [0.0, 0.0, np.pi / 2, 0.0]  # shoulder elevation, middle axis, swing; elbow
+    return q
+
+
+def edge_stretch(scene: Scene, x: np.ndarray) -> np.ndarray:
+    e = scene.gown.edges
+    return np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1) / scene.gown.edge_rest - 1.0
+
+
+def kinetic_energy(scene: Scene) -> float:
+    return float(0.5 * (scene.gown.masses * (scene.cloth.velocities() ** 2).sum(axis=1)).sum())
+
+
+def test_the_gown_hanging_from_a_still_gripper_settles(scene):
+    grip = pose(SHOULDER + [1.2, 0.0, 0.0])  # out of the human's reach
+    scene.reset(grip)
+    scene.cloth.set_state(transform_points(grip, scene.gown.positions))  # unsettled start
+    energy = []
+    for _ in range(400):
+        info = scene.step(np.zeros(11), grip)
+        assert not info.sim_failure
+        energy.append(kinetic_energy(scene))
+    x = scene.cloth_positions()
+    assert np.isfinite(x).all()
+    assert max(energy) > 1e-3  # it really was moving
+    assert energy[-1] < 1e-6  # joules, for a 150 g gown: at rest
+    stretch = edge_stretch(scene, x)
+    p95 = np.percentile(stretch, 95)
+    print(f"rest stretch: median {np.median(stretch):.4f}, p95 {p95:.4f}, max {stretch.max():.4f}")
+    assert np.median(np.abs(stretch)) < 0.01
+    assert p95 < 0.08
+    assert stretch.max() < 0.35  # a few edges by the armhole, where the whole gown hangs
+
+
+def test_the_sleeve_slides_over_an_outstretched_arm(scene):
+    q = outstretched(scene)
+    scene.reset(pose(SHOULDER + [1.05, 0.0, 0.0]), human_q=q)
+    hold = scene.human.action_for(q)
+    start, end = SHOULDER + [1.05, 0.0, 0.0], SHOULDER + [0.35, 0.0, 0.0]
+    touched = False
+    for k in range(1, 151):
+        grip = pose(start + (end - start) * min(1.0, k / 120))
+        info = scene.step(hold, grip)
+        assert not info.sim_failure
+        x = scene.cloth_positions()
+        held = transform_points(grip, scene.gown.positions[scene.pinned])
+        assert np.abs(x[scene.pinned] - held).max() < 1e-3  # pinned vertices follow the gripper
+        assert_no_deep_penetration(scene, x)
+        # every contact is summed into exactly one sensor
+        np.testing.assert_allclose(
+            scene.haptic_forces.sum(axis=0), scene.contact_force, atol=1e-4, rtol=1e-4
+        )
+        contacts = scene.cloth.contacts()
+        np.testing.assert_allclose(
+            contacts["force"].sum(axis=0), scene.cloth.body_wrenches()[0].sum(axis=0), atol=1e-4
+        )
+        touched |= len(contacts["vertex"]) > 0
+    assert touched
+    state = measure(scene)
+    assert state.containment.contained
+    assert state.arm_progress > 0.2  # the hand and part of the forearm are through
+
+
+def assert_no_deep_penetration(scene: Scene, x: np.ndarray) -> None:
+    caps = scene.human.capsules(scene.transforms)
+    free = np.setdiff1d(np.arange(len(x)), scene.pinned)
+    a, b = caps[:, 0], caps[:, 1]
+    ab = b - a
+    p = x[free][:, None, :]
+    t = np.clip(((p - a) * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
+    dist = np.linalg.norm(p - (a + t[..., None] * ab), axis=-1)
+    depth = scene.human.capsule_radius - dist  # > 0 inside the skin
+    assert depth.max() < 1e-3, f"a cloth vertex is {depth.max() * 1e3:.1f} mm inside a capsule"
+
+
+def test_the_cloth_stops_an_arm_sweeping_into_the_opening_across_its_rim(scene):
+    """The arm swings in from the side, already past the opening's plane: the held rim stops
+    it, so the metric never counts the arm as contained."""
+    grip = pose(SHOULDER + [0.45, 0.0, 0.02])
+    scene.reset(grip)
+    peak = 0.0
+    for k in range(120):
+        scene.step(reach_action(k), grip)
+        assert not measure(scene).containment.contained
+        peak = max(peak, float(np.linalg.norm(scene.contact_force)))
+    assert peak > 5.0  # newtons: the rim pushed back on the arm
+
+
+def test_the_same_actions_give_the_same_trajectory(scene):
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        grip = pose(SHOULDER + [0.45, 0.0, 0.02])
+        scene.reset(grip)
+        for k in range(40):
+            scene.step(reach_action(k, period=80), grip)
+        return scene.cloth_positions(), scene.human.q
+
+    x1, q1 = run()
+    x2, q2 = run()
+    np.testing.assert_array_equal(x1, x2)
+    np.testing.assert_array_equal(q1, q2)
+
+
+@pytest.mark.parametrize(
+    "action, message",
+    [(np.zeros(10), "shape"), (np.full(11, np.nan), "finite"), (np.full(11, np.inf), "finite")],
+)
+def test_a_malformed_action_is_refused(scene, action, message):
+    scene.reset(pose(SHOULDER + [0.45, 0.0, 0.0]))
+    with pytest.raises(ValueError, match=message):
+        scene.step(action, scene.gripper_pose)
+
+
+def test_a_diverging_cloth_ends_with_a_failure_flag_not_an_exception(scene):
+    grip = pose(SHOULDER + [0.45, 0.0, 0.0])
+    scene.reset(grip)
+    info = scene.step(np.zeros(11), pose(SHOULDER + [20.0, 0.0, 0.0]))  # the gripper teleports
+    assert info.sim_failure and "cloth speed" in info.reason
+    assert scene.step(np.zeros(11), grip).sim_failure  # it stays failed until a reset
+
+    scene.reset(grip)
+    scene.human.skeleton.setVelocities(np.full(22, np.nan))  # a blown-up body
+    info = scene.step(np.zeros(11), grip)
+    assert info.sim_failure and "non-finite" in info.reason
+
+    scene.reset(grip)
+    assert not scene.step(np.zeros(11), grip).sim_failure
