@@ -124,13 +124,20 @@ def test_array_shapes_and_dtypes(any_gown: Gown) -> None:
     g = any_gown
     nv, nf, ne, nb = g.num_vertices, g.num_triangles, len(g.edges), len(g.bend_pairs)
     expected = {
-        "positions": ((nv, 3), np.float64), "pattern": ((nv, 2), np.float64),
-        "triangles": ((nf, 3), np.int32), "edges": ((ne, 2), np.int32),
-        "bend_pairs": ((nb, 2), np.int32), "bend_edges": ((nb, 2), np.int32),
-        "edge_rest": ((ne,), np.float64), "bend_rest": ((nb,), np.float64),
-        "rest_areas": ((nf,), np.float64), "masses": ((nv,), np.float64),
-        "feature_loop": ((len(g.feature_loop),), np.int32), "geodesic": ((nv,), np.float64),
-        "sheet": ((nv,), np.int8), "region": ((nv,), np.int8),
+        "positions": ((nv, 3), np.float64),
+        "pattern": ((nv, 2), np.float64),
+        "triangles": ((nf, 3), np.int32),
+        "edges": ((ne, 2), np.int32),
+        "bend_pairs": ((nb, 2), np.int32),
+        "bend_edges": ((nb, 2), np.int32),
+        "edge_rest": ((ne,), np.float64),
+        "bend_rest": ((nb,), np.float64),
+        "rest_areas": ((nf,), np.float64),
+        "masses": ((nv,), np.float64),
+        "feature_loop": ((len(g.feature_loop),), np.int32),
+        "geodesic": ((nv,), np.float64),
+        "sheet": ((nv,), np.int8),
+        "region": ((nv,), np.int8),
     }
     for name, (shape, dtype) in expected.items():
         arr = getattr(g, name)
@@ -229,7 +236,8 @@ def test_open_boundaries_are_the_hem_with_back_slit_and_neck_plus_two_cuffs(
     expected = {
         "right cuff": np.isclose(u, -cuff_u),
         "left cuff": np.isclose(u, cuff_u),
-        "hem+slit+neck": np.isclose(v, 0.0) | (np.isclose(u, 0.0) & (g.sheet == BACK))
+        "hem+slit+neck": np.isclose(v, 0.0)
+        | (np.isclose(u, 0.0) & (g.sheet == BACK))
         | (np.isclose(v, c.body_length) & (np.abs(u) <= c.neck_half_width + 1e-9)),
     }
     kinds = Counter()
@@ -275,9 +283,12 @@ def test_bend_rest_is_the_flat_unfolded_distance(gown: Gown) -> None:
     tip_gap = edge_lengths(p, g.bend_pairs)
     tri_sheet = triangle_sheet(g)
     sheet_of = {frozenset(t): s for t, s in zip(g.triangles.tolist(), tri_sheet, strict=True)}
-    same = np.array([sheet_of[frozenset((a, b, c))] == sheet_of[frozenset((a, b, d))]
-                     for (a, b), (c, d) in zip(g.bend_edges.tolist(), g.bend_pairs.tolist(),
-                                               strict=True)])
+    same = np.array(
+        [
+            sheet_of[frozenset((a, b, c))] == sheet_of[frozenset((a, b, d))]
+            for (a, b), (c, d) in zip(g.bend_edges.tolist(), g.bend_pairs.tolist(), strict=True)
+        ]
+    )
     # Inside one flat sheet the hinge's wings already lie on opposite sides: plain distance.
     np.testing.assert_allclose(g.bend_rest[same], tip_gap[same], rtol=1e-12)
     # Across a seam the wings are folded onto each other on the pattern; the rest value is
@@ -286,8 +297,9 @@ def test_bend_rest_is_the_flat_unfolded_distance(gown: Gown) -> None:
     seam = ~same
     assert seam.sum() > 0
     mid = 0.5 * (p[g.bend_edges[:, 0]] + p[g.bend_edges[:, 1]])
-    via_mid = (np.linalg.norm(p[g.bend_pairs[:, 0]] - mid, axis=1)
-               + np.linalg.norm(p[g.bend_pairs[:, 1]] - mid, axis=1))
+    via_mid = np.linalg.norm(p[g.bend_pairs[:, 0]] - mid, axis=1) + np.linalg.norm(
+        p[g.bend_pairs[:, 1]] - mid, axis=1
+    )
     assert (g.bend_rest[seam] > tip_gap[seam] + 0.5 * g.h).all()
     assert (g.bend_rest <= via_mid + 1e-12).all()
     # Mirror-image wings (same pattern point on both sheets) unfold to twice their height.
@@ -337,8 +349,8 @@ def test_feature_loop_is_the_closed_right_armhole(any_gown: Gown) -> None:
     assert set(np.nonzero(all_column)[0].tolist()) == set(loop.tolist())
     assert np.isclose(g.loop_rest_length, 2.0 * c.sleeve_width)
     np.testing.assert_allclose(
-        edge_lengths(g.pattern, np.stack([loop, np.roll(loop, -1)], 1)).sum(),
-        g.loop_rest_length)
+        edge_lengths(g.pattern, np.stack([loop, np.roll(loop, -1)], 1)).sum(), g.loop_rest_length
+    )
 
 
 def test_feature_loop_lies_on_a_circle_in_the_yz_plane(any_gown: Gown) -> None:
@@ -349,8 +361,9 @@ def test_feature_loop_lies_on_a_circle_in_the_yz_plane(any_gown: Gown) -> None:
     # The loop's polygon is isometric to its rest length (its circle's circumference is
     # larger by the factor (pi/L) / sin(pi/L), under 1.2% for L >= 12).
     closed = np.stack([g.feature_loop, np.roll(g.feature_loop, -1)], 1)
-    np.testing.assert_allclose(edge_lengths(g.positions, closed).sum(), g.loop_rest_length,
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        edge_lengths(g.positions, closed).sum(), g.loop_rest_length, rtol=1e-12
+    )
     circumference = 2.0 * np.pi * g.loop_radius
     assert g.loop_rest_length < circumference < 1.012 * g.loop_rest_length
 
@@ -381,8 +394,9 @@ def test_right_sleeve_is_inflated_isometrically(any_gown: Gown) -> None:
     g = any_gown
     inside = (g.region[g.edges] == RIGHT_SLEEVE).all(axis=1)
     assert inside.sum() > 50
-    np.testing.assert_allclose(edge_lengths(g.positions, g.edges[inside]), g.edge_rest[inside],
-                               rtol=1e-9)
+    np.testing.assert_allclose(
+        edge_lengths(g.positions, g.edges[inside]), g.edge_rest[inside], rtol=1e-9
+    )
     sleeve = g.positions[g.region == RIGHT_SLEEVE]
     np.testing.assert_allclose(np.hypot(sleeve[:, 1], sleeve[:, 2]), g.loop_radius, rtol=1e-9)
 
@@ -398,7 +412,7 @@ def test_body_layout_is_only_mildly_strained(any_gown: Gown) -> None:
     arm = g.config.body_length - g.config.sleeve_width
     lower = (g.pattern[g.edges, 1] < arm - 1e-9).all(axis=1)
     # Below the armpits only the layer_gap/2 step off the seams strains: sqrt(1 + (gap/2h)^2).
-    assert strain[lower].max() < np.sqrt(1.0 + (0.5 * g.config.layer_gap / (0.9 * g.h))**2) - 1
+    assert strain[lower].max() < np.sqrt(1.0 + (0.5 * g.config.layer_gap / (0.9 * g.h)) ** 2) - 1
 
 
 def test_layers_stay_apart_in_the_initial_positions(any_gown: Gown) -> None:
@@ -467,18 +481,32 @@ def test_geodesic_bias_of_edge_graph_distance_is_bounded(any_gown: Gown) -> None
 # -------------------------------------------------------------------------- config
 
 
-@pytest.mark.parametrize("bad", [
-    {"target_vertices": 10}, {"body_width": 0.0}, {"sleeve_width": -0.1},
-    {"neck_half_width": 0.4}, {"sleeve_width": 0.9}, {"slit_gap": -0.01},
-])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"target_vertices": 10},
+        {"body_width": 0.0},
+        {"sleeve_width": -0.1},
+        {"neck_half_width": 0.4},
+        {"sleeve_width": 0.9},
+        {"slit_gap": -0.01},
+    ],
+)
 def test_invalid_config_is_rejected(bad: dict) -> None:
     with pytest.raises(ValueError):
         GownConfig(**bad)
 
 
 def test_dimensions_follow_the_config() -> None:
-    c = GownConfig(target_vertices=800, body_width=0.7, body_length=0.9, sleeve_length=0.2,
-                   sleeve_width=0.25, neck_half_width=0.12, areal_density=0.15)
+    c = GownConfig(
+        target_vertices=800,
+        body_width=0.7,
+        body_length=0.9,
+        sleeve_length=0.2,
+        sleeve_width=0.25,
+        neck_half_width=0.12,
+        areal_density=0.15,
+    )
     g = make_gown(c)
     assert np.isclose(np.ptp(g.pattern[:, 0]), c.body_width + 2 * c.sleeve_length)
     assert np.isclose(np.ptp(g.pattern[:, 1]), c.body_length)

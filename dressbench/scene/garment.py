@@ -41,8 +41,16 @@ class GownConfig:
     def __post_init__(self) -> None:
         if self.target_vertices < 100:
             raise ValueError("target_vertices must be at least 100")
-        positive = ("body_width", "body_length", "sleeve_length", "sleeve_width",
-                    "neck_half_width", "areal_density", "layer_gap", "blend_length")
+        positive = (
+            "body_width",
+            "body_length",
+            "sleeve_length",
+            "sleeve_width",
+            "neck_half_width",
+            "areal_density",
+            "layer_gap",
+            "blend_length",
+        )
         for name in positive:
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} must be positive")
@@ -56,8 +64,7 @@ class GownConfig:
     @property
     def pattern_area(self) -> float:
         """Area of one T-shaped sheet (body + two sleeves), m^2."""
-        return (self.body_width * self.body_length
-                + 2.0 * self.sleeve_length * self.sleeve_width)
+        return self.body_width * self.body_length + 2.0 * self.sleeve_length * self.sleeve_width
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,15 +157,24 @@ def _make_grid(cfg: GownConfig, h: float) -> _Grid:
     us = _breaks_to_lines(col_breaks, col_counts)
     vs = _breaks_to_lines(np.array([0.0, hb - sw, hb]), [n_low, n_band])
     starts = np.cumsum([0, *col_counts])
-    return _Grid(us=us, vs=vs, i_rarm=int(starts[1]), i_neck_r=int(starts[2]),
-                 i_mid=int(starts[3]), i_neck_l=int(starts[4]), i_larm=int(starts[5]),
-                 j_arm=n_low)
+    return _Grid(
+        us=us,
+        vs=vs,
+        i_rarm=int(starts[1]),
+        i_neck_r=int(starts[2]),
+        i_mid=int(starts[3]),
+        i_neck_l=int(starts[4]),
+        i_larm=int(starts[5]),
+        j_arm=n_low,
+    )
 
 
 def _breaks_to_lines(breaks: np.ndarray, counts: list[int]) -> np.ndarray:
     """Concatenate uniform subdivisions of consecutive breakpoint intervals."""
-    parts = [np.linspace(a, b, n, endpoint=False) for a, b, n in zip(breaks[:-1], breaks[1:],
-                                                                       counts, strict=True)]
+    parts = [
+        np.linspace(a, b, n, endpoint=False)
+        for a, b, n in zip(breaks[:-1], breaks[1:], counts, strict=True)
+    ]
     return np.concatenate([*parts, breaks[-1:]])
 
 
@@ -185,8 +201,7 @@ def _number_nodes(g: _Grid) -> _Nodes:
     ci = np.arange(nu - 1)[:, None]
     cj = np.arange(nv - 1)[None, :]
     cell_in = ((ci >= g.i_rarm) & (ci < g.i_larm)) | (cj >= g.j_arm)
-    return _Nodes(vid=vid, layer=layer, col=col, row=row, seam=seam[col, row],
-                  cell_in=cell_in)
+    return _Nodes(vid=vid, layer=layer, col=col, row=row, seam=seam[col, row], cell_in=cell_in)
 
 
 def _choose_spacing(cfg: GownConfig) -> tuple[float, _Grid, _Nodes]:
@@ -294,7 +309,7 @@ def _column_profiles(cfg: GownConfig, g: _Grid) -> tuple[np.ndarray, np.ndarray,
     height = 2.0 * radius + frac * (cfg.sleeve_width - 2.0 * radius)
     w = np.interp(height, height_table[::-1], w_table[::-1])
     y, z = profile(w)
-    return y, z - (z[:, g.j_arm:g.j_arm + 1] + radius), radius
+    return y, z - (z[:, g.j_arm : g.j_arm + 1] + radius), radius
 
 
 def _sum_above(steps: np.ndarray) -> np.ndarray:
@@ -344,8 +359,9 @@ def _feature_loop(g: _Grid, n: _Nodes, positions: np.ndarray) -> np.ndarray:
     return loop.astype(np.int32)
 
 
-def _geodesic(pattern: np.ndarray, edges: np.ndarray, rest: np.ndarray,
-              sources: np.ndarray) -> tuple[np.ndarray, float]:
+def _geodesic(
+    pattern: np.ndarray, edges: np.ndarray, rest: np.ndarray, sources: np.ndarray
+) -> tuple[np.ndarray, float]:
     """Shortest edge-path distance (pattern lengths) to the nearest source, normalized."""
     nv = pattern.shape[0]
     graph = coo_matrix((rest, (edges[:, 0], edges[:, 1])), shape=(nv, nv)).tocsr()
@@ -373,17 +389,32 @@ def make_gown(config: GownConfig | None = None) -> Gown:
     edge_rest = np.linalg.norm(pattern[edges[:, 0]] - pattern[edges[:, 1]], axis=1)
     bend_rest = _unfolded_distance(pattern, bend_edges, bend_pairs)
     areas = _triangle_areas(pattern, tris)
-    masses = np.bincount(tris.ravel(), weights=np.repeat(areas * cfg.areal_density / 3.0, 3),
-                         minlength=nv)
+    masses = np.bincount(
+        tris.ravel(), weights=np.repeat(areas * cfg.areal_density / 3.0, 3), minlength=nv
+    )
     positions, radius = _initial_positions(cfg, grid, nodes)
     loop = _feature_loop(grid, nodes, positions)
     loop_len = float(np.linalg.norm(pattern[loop] - pattern[np.roll(loop, -1)], axis=1).sum())
     geodesic, scale = _geodesic(pattern, edges, edge_rest, loop)
     sheet = np.where(nodes.seam, SEAM, np.where(nodes.layer == 0, FRONT, BACK)).astype(np.int8)
-    return Gown(positions=positions, pattern=pattern, triangles=tris,
-                edges=edges.astype(np.int32), bend_pairs=bend_pairs.astype(np.int32),
-                bend_edges=bend_edges.astype(np.int32), edge_rest=edge_rest,
-                bend_rest=bend_rest, rest_areas=areas, masses=masses, feature_loop=loop,
-                geodesic=geodesic, geodesic_scale=scale, sheet=sheet,
-                region=_regions(grid, nodes), h=h, loop_radius=radius,
-                loop_rest_length=loop_len, config=cfg)
+    return Gown(
+        positions=positions,
+        pattern=pattern,
+        triangles=tris,
+        edges=edges.astype(np.int32),
+        bend_pairs=bend_pairs.astype(np.int32),
+        bend_edges=bend_edges.astype(np.int32),
+        edge_rest=edge_rest,
+        bend_rest=bend_rest,
+        rest_areas=areas,
+        masses=masses,
+        feature_loop=loop,
+        geodesic=geodesic,
+        geodesic_scale=scale,
+        sheet=sheet,
+        region=_regions(grid, nodes),
+        h=h,
+        loop_radius=radius,
+        loop_rest_length=loop_len,
+        config=cfg,
+    )

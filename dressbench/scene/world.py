@@ -185,9 +185,8 @@ def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     straight = np.linalg.norm(gown.pattern[None, :] - gown.pattern[pinned, None], axis=-1)
     sheet, p_sheet = gown.sheet[None, :], gown.sheet[pinned, None]
     same_sheet = (sheet == p_sheet) | (sheet == SEAM) | (p_sheet == SEAM)
-    across_slit = (
-        ((sheet == BACK) | (p_sheet == BACK))
-        & (np.sign(gown.pattern[None, :, 0]) * np.sign(gown.pattern[pinned, None, 0]) < 0)
+    across_slit = ((sheet == BACK) | (p_sheet == BACK)) & (
+        np.sign(gown.pattern[None, :, 0]) * np.sign(gown.pattern[pinned, None, 0]) < 0
     )
     length = np.where(same_sheet & ~across_slit, np.minimum(straight, along_edges), along_edges)
     nearest = np.argmin(length, axis=0)
