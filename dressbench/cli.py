@@ -16,10 +16,13 @@ def main() -> None:
 @main.command()
 @click.option("--vertices", "-v", multiple=True, type=int, help="Gown resolutions (repeatable).")
 @click.option("--steps", default=200, show_default=True, help="Policy steps timed per row.")
+@click.option("--repeats", default=3, show_default=True, help="Timed runs; the fastest counts.")
 @click.option("--quick", is_flag=True, help="Only the default resolution, 100 steps.")
 @click.option("--device", default="cpu", show_default=True, help="Warp device for the cloth.")
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
-def bench(vertices: tuple[int, ...], steps: int, quick: bool, device: str, as_json: bool) -> None:
+def bench(
+    vertices: tuple[int, ...], steps: int, repeats: int, quick: bool, device: str, as_json: bool
+) -> None:
     """Time the cloth alone and the whole scene step (one process, one core)."""
     from .bench import bench_scene
 
@@ -28,7 +31,7 @@ def bench(vertices: tuple[int, ...], steps: int, quick: bool, device: str, as_js
     if not as_json:
         click.echo(f"{'vertices':>8} {'what':>6} {'steps/s':>9} {'ms/step':>9}")
     for n in sizes:
-        for row in bench_scene(n, steps, device):
+        for row in bench_scene(n, steps, device, repeats):
             if as_json:
                 click.echo(json.dumps(row))
             else:

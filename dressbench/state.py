@@ -51,7 +51,7 @@ def measure(scene: Scene) -> DressingState:
         joints=joints,
         plane=plane,
         containment=containment,
-        max_area_ratio=metrics.max_area_ratio(x, gown.triangles, gown.rest_areas),
+        max_area_ratio=scene.cloth.max_area_ratio(),
         effector_contacts=contacts,
         task_vector=metrics.task_vector(
             joints[0], plane, containment.contained, contacts, x, gown.triangles, gown.geodesic

@@ -4,6 +4,7 @@ back, the same inputs give the same trajectory, and bad input is refused or flag
 import numpy as np
 import pytest
 
+from dressbench import metrics
 from dressbench.bench import reach_action
 from dressbench.scene.world import Scene, transform_points
 from dressbench.state import measure
@@ -150,3 +151,13 @@ def test_a_diverging_cloth_ends_with_a_failure_flag_not_an_exception(scene):
 
     scene.reset(grip)
     assert not scene.step(np.zeros(11), grip).sim_failure
+
+
+def test_the_device_area_ratio_matches_the_reference_metric(scene):
+    grip = pose(SHOULDER + [0.45, 0.0, 0.02])
+    scene.reset(grip)
+    for k in range(30):
+        scene.step(reach_action(k, period=60), grip)
+    x = scene.cloth_positions()
+    expected = metrics.max_area_ratio(x, scene.gown.triangles, scene.gown.rest_areas)
+    assert scene.cloth.max_area_ratio() == pytest.approx(expected, rel=1e-5)

@@ -246,8 +246,11 @@ def _finish(
     contact_push: wp.array(dtype=wp.vec3),
     contact_force: wp.array(dtype=wp.vec3),
     contact_point: wp.array(dtype=wp.vec3),
+    gripper: wp.array(dtype=wp.transform),
+    extremes: wp.array(dtype=float),
 ):
-    """New velocities with friction; the force each contact puts on the body."""
+    """New velocities with friction; the force each contact puts on the body; the step's
+    largest speed and distance from the gripper (the divergence watch)."""
     i = wp.tid()
     vi = (x[i] - x_prev[i]) / h
     f = wp.vec3(0.0)
@@ -288,6 +291,21 @@ def _finish(
         contact_point[i] = q + n * cap_r[c]
     v[i] = vi
     contact_force[i] = f
+    wp.atomic_max(extremes, 0, wp.length(vi))
+    wp.atomic_max(extremes, 1, wp.length(x[i] - wp.transform_get_translation(gripper[0])))
+
+
+@wp.kernel
+def _max_area_ratio(
+    x: wp.array(dtype=wp.vec3),
+    tris: wp.array(dtype=wp.vec3i),
+    rest_area: wp.array(dtype=float),
+    out: wp.array(dtype=float),
+):
+    k = wp.tid()
+    a = x[tris[k][0]]
+    area = 0.5 * wp.length(wp.cross(x[tris[k][1]] - a, x[tris[k][2]] - a))
+    wp.atomic_max(out, 0, area / rest_area[k])
 
 
 @wp.kernel
@@ -396,6 +414,7 @@ class Cloth:
         positions: np.ndarray,
         masses: np.ndarray,
         triangles: np.ndarray,
+        rest_areas: np.ndarray,
         edges: np.ndarray,
         edge_rest: np.ndarray,
         bend_pairs: np.ndarray,
@@ -470,6 +489,9 @@ class Cloth:
         self.sensor_force = wp.zeros(n_sensors, dtype=wp.vec3, device=d)
         self.sensor_side = wp.zeros(n_sensors, dtype=float, device=d)
         self.effector_contact = wp.zeros(self.n, dtype=int, device=d)
+        self.extremes = wp.zeros(2, dtype=float, device=d)  # max speed, max distance to gripper
+        self.rest_area = arr(rest_areas, float)
+        self._ratio = wp.zeros(1, dtype=float, device=d)
         self._graph = None
 
     # ----------------------------------------------------------------------------- inputs
@@ -503,6 +525,7 @@ class Cloth:
         self.sensor_force.zero_()
         self.sensor_side.zero_()
         self.effector_contact.zero_()
+        self.extremes.zero_()
 
     # ----------------------------------------------------------------------------- stepping
     def step(self) -> None:
@@ -608,6 +631,8 @@ class Cloth:
                     self.contact_push,
                     self.contact_force,
                     self.contact_point,
+                    self.gripper,
+                    self.extremes,
                 ],
                 device=d,
             )
@@ -660,6 +685,25 @@ class Cloth:
     # ----------------------------------------------------------------------------- outputs
     def positions(self) -> np.ndarray:
         return self.x.numpy().astype(np.float64)
+
+    def max_area_ratio(self) -> float:
+        """Largest triangle area over its rest area (the deformation metric), on the device."""
+        self._ratio.zero_()
+        wp.launch(
+            _max_area_ratio,
+            len(self.triangles),
+            [self.x, self.tris, self.rest_area, self._ratio],
+            device=self.device,
+        )
+        return float(self._ratio.numpy()[0])
+
+    def extremes_since_clear(self) -> tuple[float, float]:
+        """Largest vertex speed and distance from the gripper since ``clear_haptics``."""
+        speed, distance = self.extremes.numpy()
+        return float(speed), float(distance)
+
+    def is_finite(self) -> bool:
+        return bool(np.isfinite(self.x.numpy()).all() and np.isfinite(self.v.numpy()).all())
 
     def velocities(self) -> np.ndarray:
         return self.v.numpy().astype(np.float64)

@@ -58,6 +58,7 @@ class Scene:
             g.positions,
             g.masses,
             g.triangles,
+            g.rest_areas,
             g.edges,
             g.edge_rest,
             g.bend_pairs,
@@ -109,10 +110,10 @@ class Scene:
         start, end = self.gripper_pose, np.asarray(gripper_pose, dtype=float)
         self.cloth.clear_haptics()
         n = self.config.frame_skip
+        poses = [interpolate_pose(start, end, k / n) for k in range(n + 1)]
         self.contact_force = np.zeros(3)
         for k in range(n):
-            g0, g1 = interpolate_pose(start, end, k / n), interpolate_pose(start, end, (k + 1) / n)
-            self._frame(g0, g1)
+            self._frame(poses[k], poses[k + 1])
             self.contact_force += self._body_forces.sum(axis=0) / n
         self.gripper_pose = end.copy()
         forces, sides = self.cloth.haptics()
@@ -137,16 +138,15 @@ class Scene:
         self._body_forces, self._body_torques = self.cloth.body_wrenches()
 
     def _divergence(self) -> str:
-        x = self.cloth.positions()
-        v = self.cloth.velocities()
-        if not (np.isfinite(x).all() and np.isfinite(v).all()):
+        if not self.cloth.is_finite():
             return "non-finite cloth state"
         if not self.human.is_finite():
             return "non-finite human state"
-        if np.abs(v).max() > self.config.max_speed:
-            return f"cloth speed above {self.config.max_speed} m/s"
-        if np.linalg.norm(x - self.gripper_pose[:3], axis=1).max() > self.config.max_distance:
-            return f"cloth farther than {self.config.max_distance} m from the gripper"
+        speed, distance = self.cloth.extremes_since_clear()
+        if speed > self.config.max_speed:
+            return f"cloth speed {speed:.3g} m/s above {self.config.max_speed} m/s"
+        if distance > self.config.max_distance:
+            return f"cloth {distance:.3g} m from the gripper, beyond {self.config.max_distance} m"
         return ""
 
     # ----------------------------------------------------------------------------- state
