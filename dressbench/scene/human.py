@@ -24,11 +24,12 @@ class JointSpec:
     parent: str | None
     kind: str  # "weld", "euler" (XYZ), "universal" or "revolute"
     origin: tuple[float, float, float]  # joint position in the world at q = 0
+    dofs: tuple[str, ...] = ()  # one name per degree of freedom
     axes: tuple[tuple[float, float, float], ...] = ()  # revolute/universal axes
     lower: tuple[float, ...] = ()
     upper: tuple[float, ...] = ()
     rest: tuple[float, ...] = ()
-    max_torque: tuple[float, ...] = ()
+    max_torque: tuple[float, ...] = ()  # N m, a safety bound (see docs/human.md)
     actuated: bool = False
     mass: float = 1.0
     capsules: tuple[tuple[tuple[float, float, float], tuple[float, float, float], float], ...] = ()
@@ -52,12 +53,13 @@ def _arm(side: float) -> list[JointSpec]:
             name=f"clavicle_{p}",
             parent="torso",
             kind="universal",
+            dofs=(f"clavicle_{p}_elevation", f"clavicle_{p}_protraction"),
             origin=(0.02, 0.03 * s, 0.47),
             axes=((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
             lower=_mirror((-0.35, -0.30), (0.35, 0.50), m)[0],
             upper=_mirror((-0.35, -0.30), (0.35, 0.50), m)[1],
             rest=(0.0, 0.0),
-            max_torque=(60.0, 60.0),
+            max_torque=(180.0, 180.0),
             actuated=side == RIGHT,
             mass=0.6,
             capsules=(((0.02, 0.05 * s, 0.48), (0.0, 0.15 * s, 0.50), 0.045),),
@@ -67,11 +69,12 @@ def _arm(side: float) -> list[JointSpec]:
             name=f"upper_arm_{p}",
             parent=f"clavicle_{p}",
             kind="euler",
+            dofs=(f"shoulder_{p}_elevation", f"shoulder_{p}_middle", f"shoulder_{p}_swing"),
             origin=sh,
             lower=_mirror((-1.6, -1.2, -0.8), (1.6, 1.2, 2.3), m)[0],
             upper=_mirror((-1.6, -1.2, -0.8), (1.6, 1.2, 2.3), m)[1],
             rest=tuple(m * v for v in (1.30, 0.0, 0.15)),
-            max_torque=(60.0, 40.0, 60.0),
+            max_torque=(180.0, 120.0, 180.0),
             actuated=side == RIGHT,
             mass=2.1,
             capsules=((sh, el, 0.045),),
@@ -81,12 +84,13 @@ def _arm(side: float) -> list[JointSpec]:
             name=f"forearm_{p}",
             parent=f"upper_arm_{p}",
             kind="revolute",
+            dofs=(f"elbow_{p}_flexion",),
             origin=el,
             axes=((0.0, 0.0, m),),  # + flexes the forearm forward from the T-pose
             lower=(0.0,),
             upper=(2.6,),
             rest=(0.3,),
-            max_torque=(50.0,),
+            max_torque=(150.0,),
             actuated=side == RIGHT,
             mass=1.2,
             capsules=((el, wr, 0.038),),
@@ -96,12 +100,13 @@ def _arm(side: float) -> list[JointSpec]:
             name=f"hand_{p}",
             parent=f"forearm_{p}",
             kind="universal",
+            dofs=(f"wrist_{p}_flexion", f"wrist_{p}_deviation"),
             origin=wr,
             axes=((0.0, 0.0, m), (1.0, 0.0, 0.0)),  # flexion, then radial/ulnar deviation
             lower=(-1.2, -0.35),
             upper=(1.2, 0.5),
             rest=(0.0, 0.0),
-            max_torque=(10.0, 10.0),
+            max_torque=(30.0, 30.0),
             actuated=side == RIGHT,
             mass=0.45,
             capsules=((wr, tip, 0.03),),
@@ -137,12 +142,13 @@ def body_specs() -> list[JointSpec]:
             name="torso",
             parent="pelvis",
             kind="euler",
+            dofs=("spine_bend", "spine_flexion", "spine_twist"),
             origin=(0.0, 0.0, 0.10),
             # x: lateral bend, y: flexion (+ = forward), z: axial twist
             lower=(-0.5, -0.4, -0.7),
             upper=(0.5, 1.0, 0.7),
             rest=(0.0, 0.0, 0.0),
-            max_torque=(150.0, 150.0, 80.0),
+            max_torque=(450.0, 450.0, 240.0),
             actuated=True,
             mass=26.0,
             capsules=(
@@ -155,11 +161,12 @@ def body_specs() -> list[JointSpec]:
             name="head",
             parent="torso",
             kind="euler",
+            dofs=("neck_bend", "neck_flexion", "neck_twist"),
             origin=(0.0, 0.0, 0.53),
             lower=(-0.6, -0.7, -1.0),
             upper=(0.6, 0.8, 1.0),
             rest=(0.0, 0.0, 0.0),
-            max_torque=(25.0, 25.0, 25.0),
+            max_torque=(75.0, 75.0, 75.0),
             mass=5.5,
             capsules=(
                 ((0.0, 0.0, 0.57), (0.0, 0.0, 0.62), 0.05),
@@ -216,6 +223,7 @@ class Human:
         self.actuated_index = np.flatnonzero(self.actuated)
         self.target = self.rest.copy()
         self._torque_action = np.zeros(self.N_ACTIONS)
+        self.torque = np.zeros(self.N_DOFS)
 
         caps = [(i, c) for i, s in enumerate(config.specs) for c in s.capsules]
         self.capsule_body = np.array([i for i, _ in caps], dtype=np.int32)
@@ -303,13 +311,15 @@ class Human:
         """One DART step: fresh computed-torque PD, then the cloth's external wrenches."""
         skel = self.skeleton
         q, dq = self.q, self.dq
-        acc = self.config.kp * (self.target - q) - self.config.kd * dq
-        tau = np.asarray(skel.getMassMatrix()) @ acc + np.asarray(
-            skel.getCoriolisAndGravityForces()
+        inertial = np.asarray(skel.getMassMatrix()) @ (
+            self.config.kp * (self.target - q) - self.config.kd * dq
         )
+        bias = np.asarray(skel.getCoriolisAndGravityForces())
+        tau = _within_limits(inertial, bias, self.max_torque)
         if self.config.actuation == "torque":
             tau[self.actuated_index] = self.config.torque_scale * self._torque_action
-        skel.setForces(np.clip(tau, -self.max_torque, self.max_torque))
+        self.torque = np.clip(tau, -self.max_torque, self.max_torque)  # the last commanded
+        skel.setForces(self.torque)
         for k in np.flatnonzero(
             np.any(body_forces != 0.0, axis=1) | np.any(body_torques != 0.0, axis=1)
         ):
@@ -319,6 +329,16 @@ class Human:
 
     def is_finite(self) -> bool:
         return bool(np.isfinite(self.q).all() and np.isfinite(self.dq).all())
+
+
+def _within_limits(inertial: np.ndarray, bias: np.ndarray, limit: np.ndarray) -> np.ndarray:
+    """Computed torque ``s * M acc + bias`` with the largest s in [0, 1] that respects the
+    joint torque limits: scaling the whole PD acceleration keeps the joints decoupled, where
+    clipping joints one by one made the light distal links unstable."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        room = (np.sign(inertial) * limit - bias) / inertial
+    scale = float(np.clip(np.min(np.where(np.isfinite(room), room, np.inf)), 0.0, 1.0))
+    return np.clip(scale * inertial + bias, -limit, limit)
 
 
 def _build_skeleton(specs: tuple[JointSpec, ...]) -> tuple[dart.dynamics.Skeleton, list]:
@@ -346,9 +366,9 @@ def _build_skeleton(specs: tuple[JointSpec, ...]) -> tuple[dart.dynamics.Skeleto
             joint.setAxis1(np.array(s.axes[0]))
             joint.setAxis2(np.array(s.axes[1]))
         for k in range(len(s.rest)):
+            joint.setDofName(k, s.dofs[k], True)
             joint.setPositionLowerLimit(k, s.lower[k])
             joint.setPositionUpperLimit(k, s.upper[k])
-            joint.setDampingCoefficient(k, 0.5)
         if s.kind != "weld":
             joint.setLimitEnforcement(True)
         _add_geometry(body, s, origins[s.name])
