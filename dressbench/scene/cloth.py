@@ -43,6 +43,7 @@ class ClothConfig:
     pin_stiffness: float = 2000.0  # N/m, penalty of a gripper-held vertex against a capsule
     broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    launch_per_color: bool | None = None  # None: one launch per colour on CUDA, one in all on CPU
 
 
 @wp.func
@@ -672,7 +673,10 @@ class Cloth:
         launch per colour on CUDA); on the CPU the kernel runs serially, so one launch over all
         colours in order is the same sweep, and the independence keeps the pipeline full.
         """
-        ranges = cs.color_ranges if self.device.is_cuda else [(0, cs.size)]
+        per_color = self.config.launch_per_color
+        if per_color is None:
+            per_color = self.device.is_cuda
+        ranges = cs.color_ranges if per_color else [(0, cs.size)]
         for start, count in ranges:
             if count:
                 wp.launch(
