@@ -6,7 +6,8 @@ import pytest
 
 from dressbench import metrics
 from dressbench.bench import reach_action
-from dressbench.scene.world import Scene, transform_points
+from dressbench.scene.geometry import transform_points
+from dressbench.scene.world import Scene
 from dressbench.state import measure
 
 FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # the sleeve points forward, away from the human

@@ -40,7 +40,6 @@ class ClothConfig:
     thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
     friction: float = 0.5  # Coulomb coefficient between cloth and skin
     damping: float = 2.0  # 1/s, linear velocity damping: air drag on a light fabric
-    pin_stiffness: float = 2000.0  # N/m, penalty of a gripper-held vertex against a capsule
     broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
     launch_per_color: bool | None = None  # None: one launch per colour on CUDA, one in all on CPU
@@ -239,10 +238,8 @@ def _finish(
     cap_a_prev: wp.array(dtype=wp.vec3),
     cap_b_prev: wp.array(dtype=wp.vec3),
     cap_r: wp.array(dtype=float),
-    n_caps: int,
     h: float,
     mu: float,
-    pin_stiffness: float,
     contact_cap: wp.array(dtype=int),
     contact_push: wp.array(dtype=wp.vec3),
     contact_force: wp.array(dtype=wp.vec3),
@@ -256,23 +253,7 @@ def _finish(
     vi = (x[i] - x_prev[i]) / h
     f = wp.vec3(0.0)
     c = contact_cap[i]
-    if inv_mass[i] == 0.0:
-        # a gripper-held vertex is rigid: the body meets it as a stiff penalty spring
-        vi = wp.vec3(0.0)
-        for k in range(n_caps):
-            t = closest_on_segment(x[i], cap_a[k], cap_b[k])
-            q = cap_a[k] + (cap_b[k] - cap_a[k]) * t
-            d = x[i] - q
-            dist = wp.length(d)
-            if dist < cap_r[k] and dist > 1.0e-9:
-                n = d / dist
-                f = f - n * (pin_stiffness * (cap_r[k] - dist))
-                c = k
-        contact_cap[i] = c
-        if c >= 0:
-            t = closest_on_segment(x[i], cap_a[c], cap_b[c])
-            contact_point[i] = cap_a[c] + (cap_b[c] - cap_a[c]) * t
-    elif c >= 0:
+    if c >= 0 and inv_mass[i] > 0.0:  # held vertices' contacts are the hoop's, in DART
         t = closest_on_segment(x[i], cap_a[c], cap_b[c])
         q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
         vs = ((cap_a[c] - cap_a_prev[c]) * (1.0 - t) + (cap_b[c] - cap_b_prev[c]) * t) / h
@@ -624,10 +605,8 @@ class Cloth:
                     self.cap_a_prev,
                     self.cap_b_prev,
                     self.cap_r,
-                    self.n_caps,
                     h,
                     cfg.friction,
-                    cfg.pin_stiffness,
                     self.contact_cap,
                     self.contact_push,
                     self.contact_force,

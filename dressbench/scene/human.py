@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 import dartpy as dart
 import numpy as np
 
+from .geometry import rotation_z_to
+
 RIGHT, LEFT = -1.0, 1.0  # the sign of y on each side of the body
 _ORIGIN = np.zeros(3)
 
@@ -188,6 +190,7 @@ class HumanConfig:
     )
     kp: float = 100.0  # computed-torque PD gains (critically damped: kd = 2 sqrt(kp))
     kd: float = 20.0
+    max_speed: float = 3.0  # rad/s: the PD never asks a joint to move faster (see docs)
     torque_scale: float = 10.0  # the paper's mapping, used with actuation="torque"
     self_collision: bool = True
     specs: tuple[JointSpec, ...] = field(default_factory=lambda: tuple(body_specs()))
@@ -280,6 +283,14 @@ class Human:
         tip = hand[:3, :3] @ self._tip_local + hand[:3, 3]
         return np.vstack([tip] + [transforms[i][:3, 3] for i in self._chain])
 
+    def fingertip_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """(3, 22) world-frame Jacobian of the fingertip at configuration ``q`` (sets q)."""
+        self.skeleton.setPositions(q)
+        hand = self._bodies[self._chain[0]]
+        return np.asarray(
+            self.skeleton.getLinearJacobian(hand, self._tip_local, dart.dynamics.Frame.World())
+        )
+
     def torso_up(self, transforms: np.ndarray) -> np.ndarray:
         return transforms[self.torso_index][:3, 2].copy()
 
@@ -311,9 +322,9 @@ class Human:
         """One DART step: fresh computed-torque PD, then the cloth's external wrenches."""
         skel = self.skeleton
         q, dq = self.q, self.dq
-        inertial = np.asarray(skel.getMassMatrix()) @ (
-            self.config.kp * (self.target - q) - self.config.kd * dq
-        )
+        cfg = self.config
+        speed = np.clip(cfg.kp / cfg.kd * (self.target - q), -cfg.max_speed, cfg.max_speed)
+        inertial = np.asarray(skel.getMassMatrix()) @ (cfg.kd * (speed - dq))
         bias = np.asarray(skel.getCoriolisAndGravityForces())
         tau = _within_limits(inertial, bias, self.max_torque)
         if self.config.actuation == "torque":
@@ -388,7 +399,7 @@ def _add_geometry(body: dart.dynamics.BodyNode, spec: JointSpec, origin: np.ndar
         shape = dart.dynamics.CapsuleShape(r, h)
         tf = dart.math.Isometry3()
         tf.set_translation((a + b) / 2.0)
-        tf.set_rotation(_rotation_z_to(axis / h))
+        tf.set_rotation(rotation_z_to(axis / h))
         node = body.createShapeNode(shape)
         node.setRelativeTransform(tf)
         node.createCollisionAspect()
@@ -407,14 +418,3 @@ def _add_geometry(body: dart.dynamics.BodyNode, spec: JointSpec, origin: np.ndar
         moment += share * (d @ d * np.eye(3) - np.outer(d, d))
     inertia = dart.dynamics.Inertia(spec.mass, com, moment)
     body.setInertia(inertia)
-
-
-def _rotation_z_to(direction: np.ndarray) -> np.ndarray:
-    """A rotation taking the local z axis to ``direction`` (unit)."""
-    z = np.array([0.0, 0.0, 1.0])
-    v = np.cross(z, direction)
-    c = float(z @ direction)
-    if np.linalg.norm(v) < 1e-9:
-        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
-    vx = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-    return np.eye(3) + vx + vx @ vx / (1.0 + c)

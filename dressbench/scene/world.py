@@ -16,6 +16,8 @@ from scipy.sparse.csgraph import dijkstra
 
 from .cloth import Cloth, ClothConfig
 from .garment import BACK, SEAM, Gown, GownConfig, make_gown
+from .geometry import interpolate_pose, quat_matrix, transform_points
+from .gripper import Hoop
 from .human import Human, HumanConfig
 
 IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # x y z qx qy qz qw
@@ -75,6 +77,7 @@ class Scene:
             dt=config.dt,
             device=config.device,
         )
+        self.hoop = Hoop(self.human, g.positions[self.pinned])
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
         self.failed = False
@@ -91,6 +94,7 @@ class Scene:
         self.gripper_pose = np.asarray(gripper_pose, dtype=float).copy()
         self.cloth.set_state(transform_points(self.gripper_pose, self._rest_shape))
         self.cloth.set_gripper(self.gripper_pose, self.gripper_pose)
+        self.hoop.set_pose(self.gripper_pose)
         self._transforms = self.human.body_transforms()
         self._body_forces = np.zeros((len(self.human.body_names), 3))
         self._body_torques = np.zeros_like(self._body_forces)
@@ -112,13 +116,17 @@ class Scene:
         n = self.config.frame_skip
         poses = [interpolate_pose(start, end, k / n) for k in range(n + 1)]
         self.contact_force = np.zeros(3)
+        hoop_forces = np.zeros_like(self.haptic_forces)
+        hoop_sides = np.zeros_like(self.haptic_sides)
         for k in range(n):
             self._frame(poses[k], poses[k + 1])
             self.contact_force += self._body_forces.sum(axis=0) / n
+            self._add_hoop_contacts(poses[k + 1], hoop_forces, hoop_sides)
+        self.contact_force += hoop_forces.sum(axis=0) / n
         self.gripper_pose = end.copy()
         forces, sides = self.cloth.haptics()
-        self.haptic_forces = forces / n
-        self.haptic_sides = sides
+        self.haptic_forces = (forces + hoop_forces) / n
+        self.haptic_sides = sides + hoop_sides
         self.time += n * self.config.dt
         reason = self._divergence()
         if reason:
@@ -129,6 +137,7 @@ class Scene:
     def _frame(self, gripper_prev: np.ndarray, gripper: np.ndarray) -> None:
         human = self.human
         capsules_prev = human.capsules(self._transforms)
+        self.hoop.set_pose(gripper)
         human.step(self._body_forces, self._body_torques)
         T = human.body_transforms()
         self._transforms = T
@@ -136,6 +145,20 @@ class Scene:
         self.cloth.set_gripper(gripper_prev, gripper)
         self.cloth.step()
         self._body_forces, self._body_torques = self.cloth.body_wrenches()
+
+    def _add_hoop_contacts(
+        self, gripper: np.ndarray, forces: np.ndarray, sides: np.ndarray
+    ) -> None:
+        """Sum the held rim's contacts (solved by DART) into the nearest haptic sensors."""
+        _, points, body_forces = self.hoop.contacts()
+        if len(points) == 0:
+            return
+        sensors = self.human.sensors(self._transforms)
+        nearest = np.argmin(((points[:, None] - sensors[None]) ** 2).sum(-1), axis=1)
+        np.add.at(forces, nearest, body_forces)
+        # pushing the rim along the opening's normal (into the sleeve) is an inner contact
+        normal = quat_matrix(gripper[3:])[:, 0]
+        np.add.at(sides, nearest, -(body_forces @ normal))
 
     def _divergence(self) -> str:
         if not self.cloth.is_finite():
@@ -193,31 +216,6 @@ def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     anchor = pinned[nearest].astype(np.int32)
     anchor[pinned] = -1
     return anchor, length[nearest, np.arange(n)]
-
-
-def transform_points(pose: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Apply a pose (x y z qx qy qz qw) to (N, 3) points."""
-    return points @ quat_matrix(pose[3:]).T + pose[:3]
-
-
-def quat_matrix(q: np.ndarray) -> np.ndarray:
-    x, y, z, w = q / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def interpolate_pose(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
-    """Linear position, normalized-linear rotation (the robot moves slowly between steps)."""
-    qa, qb = a[3:], b[3:]
-    if qa @ qb < 0.0:
-        qb = -qb
-    q = (1.0 - t) * qa + t * qb
-    return np.concatenate([(1.0 - t) * a[:3] + t * b[:3], q / np.linalg.norm(q)])
 
 
 _SETTLED: dict[tuple, np.ndarray] = {}

@@ -1,0 +1,61 @@
+"""What a plugin is: the two interfaces third-party packages implement.
+
+A plugin registers a *class* (or any zero-argument factory) under an entry point of group
+``dressbench.robots`` or ``dressbench.humans``. dressbench calls it once per environment to get
+a fresh instance, so instances may keep per-episode state. Both interfaces carry an integer
+``api_version`` that dressbench checks on load.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+
+ROBOT_API_VERSION = 1
+HUMAN_API_VERSION = 1
+ROBOT_GROUP = "dressbench.robots"
+HUMAN_GROUP = "dressbench.humans"
+
+
+@runtime_checkable
+class RobotStrategy(Protocol):
+    """Where the gripper holds the gown at the start, and how it moves it.
+
+    Poses are ``(x, y, z, qx, qy, qz, qw)`` in the human's frame (x forward, y to the human's
+    left, z up; metres). The identity rotation presents the armhole to the human with the
+    sleeve pointing away along +x. The robot's observation and action are documented in
+    ``docs/env.md``: the action is the gripper's velocity, 3 numbers in [-1, 1] times
+    ``ROBOT_MAX_SPEED`` metres per second.
+    """
+
+    api_version: ClassVar[int]
+
+    def reset(self, rng: np.random.Generator) -> np.ndarray:
+        """Sample an episode from ``rng``; return the initial gripper pose, shape (7,)."""
+        ...
+
+    def act(self, observation: np.ndarray) -> np.ndarray:
+        """The robot action for a robot observation, shape (3,)."""
+        ...
+
+
+@runtime_checkable
+class HumanPolicy(Protocol):
+    """A human model: an action in [-1, 1]^11 for each human observation.
+
+    ``robot`` and ``ablation`` name the strategy and ablation it was trained for (``robot`` is
+    None for a policy meant for any strategy).
+    """
+
+    api_version: ClassVar[int]
+    robot: str | None
+    ablation: str
+
+    def reset(self, seed: int | None = None) -> None:
+        """Start an episode; stochastic policies reseed from ``seed``."""
+        ...
+
+    def act(self, observation: np.ndarray) -> np.ndarray:
+        """The human action for a human observation, shape (11,)."""
+        ...

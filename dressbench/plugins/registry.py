@@ -1,0 +1,290 @@
+"""Find, check and load robot and human plugins advertised through entry points.
+
+Discovery is lazy: nothing is read or imported until a function here is first called, and the
+result is cached until ``refresh()``. Every advertised plugin becomes a ``Plugin`` record, ok or
+broken, so that one broken package never hides the others and listings can say what is wrong.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import cast
+
+from dressbench.plugins.protocols import (
+    HUMAN_API_VERSION,
+    HUMAN_GROUP,
+    ROBOT_API_VERSION,
+    ROBOT_GROUP,
+    HumanPolicy,
+    RobotStrategy,
+)
+
+OK = "ok"
+ERROR = "error"
+_HOME_PACKAGE = "dressbench"  # its entry points are the built-ins and keep their names
+
+
+@dataclass(frozen=True)
+class Plugin:
+    """One advertised plugin: where it comes from, whether it works, and how to create it."""
+
+    name: str
+    group: str
+    package: str
+    version: str
+    value: str  # what the entry point names, "module:attr"
+    status: str  # OK or ERROR
+    error: str | None  # one line: why it is broken
+    factory: Callable[[], object] | None  # the loaded class or factory when ok
+
+    @property
+    def ok(self) -> bool:
+        """Whether the plugin loaded and passed the interface checks."""
+        return self.status == OK
+
+    @property
+    def origin(self) -> str:
+        """``'package version'``, for messages."""
+        return f"{self.package} {self.version}"
+
+
+class PluginError(Exception):
+    """Base class of the errors raised when a plugin cannot be used."""
+
+
+class UnknownPluginError(PluginError, KeyError):
+    """No plugin of that name is installed in the group."""
+
+    def __str__(self) -> str:
+        """One clean line (``KeyError`` would quote the message)."""
+        return str(self.args[0])
+
+
+class BrokenPluginError(PluginError):
+    """The plugin is installed but failed to import or does not implement its interface."""
+
+    def __init__(self, message: str, plugin: Plugin) -> None:
+        super().__init__(message)
+        self.plugin = plugin
+
+
+@dataclass(frozen=True)
+class _Entry:
+    """An advertised plugin before loading: its identity and how to import its factory."""
+
+    name: str
+    group: str
+    package: str
+    version: str
+    value: str
+    load: Callable[[], object]
+
+
+def _entry_point_entries(group: str) -> list[_Entry]:
+    """The plugins that installed distributions advertise under ``group``."""
+    import importlib.metadata  # here, not at the top: it costs ~40 ms of import time
+
+    entries = []
+    for ep in importlib.metadata.entry_points(group=group):
+        dist = ep.dist
+        package = (dist.metadata.get("Name") if dist else None) or "<unknown>"
+        version = (dist.version if dist else None) or "<unknown>"
+        entries.append(_Entry(ep.name, group, package, version, ep.value, ep.load))
+    return entries
+
+
+@dataclass(frozen=True)
+class _Kind:
+    """What a group's plugins must provide, and where its plugins come from."""
+
+    group: str
+    noun: str
+    api_version: int
+    methods: tuple[str, ...]
+    attributes: tuple[str, ...]
+    # Each source lists a group's plugins; humans will later add trained files in policies/.
+    sources: tuple[Callable[[str], list[_Entry]], ...] = (_entry_point_entries,)
+
+
+_ROBOT = _Kind(ROBOT_GROUP, "robot", ROBOT_API_VERSION, ("reset", "act"), ())
+_HUMAN = _Kind(HUMAN_GROUP, "human", HUMAN_API_VERSION, ("reset", "act"), ("robot", "ablation"))
+
+_cache: dict[str, list[Plugin]] = {}
+
+
+def _normalize(package: str) -> str:
+    """The PEP 503 form of a distribution name, so spellings of one package compare equal."""
+    return re.sub(r"[-_.]+", "-", package).lower()
+
+
+def _one_line(exc: BaseException) -> str:
+    """``'Type: first line of the message'``: a reason that fits in a listing."""
+    lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
+    return f"{type(exc).__name__}: {lines[0]}" if lines else type(exc).__name__
+
+
+def _api_problem(kind: _Kind, obj: object) -> str | None:
+    """Why ``obj`` (a factory or an instance) has the wrong ``api_version``, or None."""
+    version = getattr(obj, "api_version", None)
+    if version is None:
+        return f"api_version is missing (this dressbench expects {kind.api_version})"
+    if isinstance(version, bool) or not isinstance(version, int):
+        return f"api_version must be the integer {kind.api_version}, found {version!r}"
+    if version != kind.api_version:
+        return (
+            f"api_version {version} is not supported (this dressbench expects {kind.api_version})"
+        )
+    return None
+
+
+def _interface_problem(kind: _Kind, instance: object) -> str | None:
+    """Why ``instance`` does not implement the group's protocol, or None if it does."""
+    methods = [m for m in kind.methods if not callable(getattr(instance, m, None))]
+    attributes = [a for a in kind.attributes if not hasattr(instance, a)]
+    missing = [f"method {m}()" for m in methods] + [f"attribute {a}" for a in attributes]
+    api = _api_problem(kind, instance)
+    problems = [f"not a {kind.noun} plugin: missing " + ", ".join(missing)] if missing else []
+    return "; ".join(problems + [api] if api else problems) or None
+
+
+def _check(kind: _Kind, entry: _Entry) -> tuple[Callable[[], object] | None, str | None]:
+    """Import the entry and check one instance of it: ``(factory, None)`` or ``(None, why)``."""
+    try:
+        factory = entry.load()
+    except (Exception, SystemExit) as exc:
+        return None, f"import failed: {_one_line(exc)}"
+    if not callable(factory):
+        kind_of = type(factory).__name__
+        return None, f"{entry.value} is not callable ({kind_of}): expected a class or factory"
+    if hasattr(factory, "api_version") and (problem := _api_problem(kind, factory)):
+        return None, problem  # an old or future plugin: do not even construct it
+    try:
+        instance = factory()
+    except (Exception, SystemExit) as exc:
+        return None, f"creating an instance failed: {_one_line(exc)}"
+    try:
+        problem = _interface_problem(kind, instance)
+    except Exception as exc:  # a property that raises while being checked
+        return None, f"checking the instance failed: {_one_line(exc)}"
+    return (None, problem) if problem else (factory, None)
+
+
+def _record(kind: _Kind, entry: _Entry) -> Plugin:
+    """Load and check one entry into a record."""
+    factory, problem = _check(kind, entry)
+    status = ERROR if problem else OK
+    return Plugin(*_identity(entry), status=status, error=problem, factory=factory)
+
+
+def _identity(entry: _Entry) -> tuple[str, str, str, str, str]:
+    """The fields a record shares with its entry."""
+    return entry.name, entry.group, entry.package, entry.version, entry.value
+
+
+def _precedence(entry: _Entry) -> tuple[bool, str, str]:
+    """Sort key among entries sharing a name: dressbench first, then by package name."""
+    package = _normalize(entry.package)
+    return package != _HOME_PACKAGE, package, entry.value
+
+
+def _distinct(entries: list[_Entry]) -> list[_Entry]:
+    """Drop repeats of one plugin (a distribution seen twice, e.g. an editable install)."""
+    seen: dict[tuple[str, str, str], _Entry] = {}
+    for entry in entries:
+        seen.setdefault((entry.name, entry.value, _normalize(entry.package)), entry)
+    return list(seen.values())
+
+
+def _discover(kind: _Kind) -> list[Plugin]:
+    """Records for every plugin of the group, the winner of each name first.
+
+    Losing duplicates are recorded as errors without being imported.
+    """
+    entries = _distinct([entry for source in kind.sources for entry in source(kind.group)])
+    plugins: list[Plugin] = []
+    winners: dict[str, Plugin] = {}
+    for entry in sorted(entries, key=lambda e: (e.name, _precedence(e))):
+        winner = winners.get(entry.name)
+        if winner is None:
+            plugins.append(winners.setdefault(entry.name, _record(kind, entry)))
+        else:
+            duplicate = f"duplicate name: also provided by {winner.origin}"
+            plugins.append(Plugin(*_identity(entry), status=ERROR, error=duplicate, factory=None))
+    return plugins
+
+
+def _records(kind: _Kind) -> list[Plugin]:
+    """The group's records, discovered on first use and cached until ``refresh()``."""
+    if kind.group not in _cache:
+        _cache[kind.group] = _discover(kind)
+    return _cache[kind.group]
+
+
+def _by_name(kind: _Kind) -> dict[str, Plugin]:
+    """The record each name resolves to (a losing duplicate appears only in ``all_plugins()``)."""
+    plugins: dict[str, Plugin] = {}
+    for plugin in _records(kind):
+        plugins.setdefault(plugin.name, plugin)
+    return plugins
+
+
+def refresh() -> None:
+    """Forget discovered plugins so the next call re-reads entry points (after installs)."""
+    _cache.clear()
+    importlib.invalidate_caches()
+
+
+def robot_plugins() -> dict[str, Plugin]:
+    """Every robot plugin name and the record it resolves to, ok or broken."""
+    return _by_name(_ROBOT)
+
+
+def human_plugins() -> dict[str, Plugin]:
+    """Every human plugin name and the record it resolves to, ok or broken."""
+    return _by_name(_HUMAN)
+
+
+def all_plugins() -> list[Plugin]:
+    """Every record of both groups, losing duplicates included: robots first, by name."""
+    return [*_records(_ROBOT), *_records(_HUMAN)]
+
+
+def _unknown(kind: _Kind, name: str, plugins: dict[str, Plugin]) -> UnknownPluginError:
+    """An error for a name nobody provides, with a suggestion and the names that work."""
+    import difflib  # only an error message needs it
+
+    usable = [key for key, plugin in sorted(plugins.items()) if plugin.ok]
+    close = difflib.get_close_matches(name, list(plugins), n=1)
+    hint = f" did you mean {close[0]!r}?" if close else ""
+    if usable:
+        listing = f"Available: {', '.join(usable)}."
+    elif plugins:
+        listing = f"Installed but broken: {', '.join(sorted(plugins))}."
+    else:
+        listing = f"No {kind.noun} plugins are installed."
+    return UnknownPluginError(f"unknown {kind.noun} {name!r}:{hint} {listing}")
+
+
+def _load(kind: _Kind, name: str) -> object:
+    """A new instance of the named plugin of the group."""
+    plugins = _by_name(kind)
+    plugin = plugins.get(name)
+    if plugin is None:
+        raise _unknown(kind, name, plugins)
+    if plugin.factory is None:
+        message = f"{kind.noun} plugin {name!r} from {plugin.origin} is broken: {plugin.error}"
+        raise BrokenPluginError(message, plugin)
+    return plugin.factory()
+
+
+def load_robot(name: str) -> RobotStrategy:
+    """A new instance of the robot strategy registered as ``name`` (checked on discovery)."""
+    return cast(RobotStrategy, _load(_ROBOT, name))
+
+
+def load_human(name: str) -> HumanPolicy:
+    """A new instance of the human policy registered as ``name`` (checked on discovery)."""
+    return cast(HumanPolicy, _load(_HUMAN, name))

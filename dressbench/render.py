@@ -1,0 +1,199 @@
+"""Headless pictures of a dressing scene: capsule human, gown mesh and gripper, drawn by Agg.
+
+Matplotlib's Agg canvas needs no display and no GPU, and a ``Figure`` made without pyplot holds
+no global state. Everything solid is one ``Poly3DCollection`` so that the body and the gown
+are depth-sorted together (painter's algorithm); the armhole loop and the gripper are lines and
+a marker drawn on top, so they stay visible through the cloth and the arm in it.
+See ``docs/render.md``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d import Axes3D
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+from .scene.geometry import quat_matrix
+from .scene.world import Scene
+
+SKIN = np.array([0.92, 0.70, 0.55])  # the human's capsules
+GOWN = np.array([0.45, 0.68, 0.95])  # the gown's faces, semi-opaque
+GOWN_ALPHA = 0.8
+GRIPPER = (0.20, 0.20, 0.25)  # the gripper's marker
+LOOP_COLOR = (0.05, 0.15, 0.55)  # the armhole loop, a closed line
+AXIS_COLOR = (0.85, 0.10, 0.10)  # the gripper's approach axis
+AMBIENT = 0.35  # share of a face's colour that needs no light
+SIDES = 8  # facets around each capsule
+CAP_ANGLES = np.radians([-90.0, -45.0, 0.0, 0.0, 45.0, 90.0])  # latitudes of the capsule rings
+CAP_ENDS = np.array([0, 0, 0, 1, 1, 1])  # the endpoint each ring is centred on
+AXIS_LENGTH = 0.2  # m, drawn length of the approach axis
+
+
+@dataclass(frozen=True)
+class View:
+    """A fixed camera and the world box it frames (metres, the scene's frame)."""
+
+    elev: float = 15.0  # degrees above the horizon
+    azim: float = -60.0  # degrees about z from +x: the camera stands front-right of the human
+    xlim: tuple[float, float] = (-0.4, 1.1)
+    ylim: tuple[float, float] = (-0.9, 0.6)
+    zlim: tuple[float, float] = (-0.6, 1.0)
+    zoom: float = 1.5  # the box fills more of the frame than matplotlib's default margin
+
+    def light(self) -> np.ndarray:
+        """Unit light direction: from over the camera's shoulder, so visible faces are lit."""
+        e, a = np.radians(self.elev + 30.0), np.radians(self.azim + 20.0)
+        return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+
+
+class Renderer:
+    """One reusable Agg figure of a fixed size; ``render`` redraws it for each frame."""
+
+    def __init__(self, width: int = 480, height: int = 360, view: View = View()) -> None:
+        self.view = view
+        self.figure = Figure(figsize=(width / 100, height / 100), dpi=100)
+        self.canvas = FigureCanvasAgg(self.figure)
+        self.axes = _make_axes(self.figure, view)
+        self.solids = Poly3DCollection(
+            np.zeros((0, 4, 3)), edgecolors="none", linewidths=0.0, antialiased=False, zorder=1
+        )
+        self.axes.add_collection3d(self.solids)
+        size = height / 360  # lines, marker and text keep their share of the frame at any size
+        (self.loop,) = self.axes.plot([], [], [], color=LOOP_COLOR, lw=2.0 * size, zorder=2)
+        (self.axis,) = self.axes.plot([], [], [], color=AXIS_COLOR, lw=2.5 * size, zorder=3)
+        (self.gripper,) = self.axes.plot(
+            [], [], [], "s", color=GRIPPER, mec="white", mew=size, ms=8 * size, zorder=4
+        )
+        self.caption = self.figure.text(
+            0.02, 0.97, "", va="top", family="monospace", fontsize=10 * size, zorder=5
+        )
+
+    def render(self, scene: Scene, caption: str | None = None) -> np.ndarray:
+        """The scene as an (H, W, 3) uint8 RGB image."""
+        x = scene.cloth_positions()
+        body = body_faces(scene.human.capsules(scene.transforms), scene.human.capsule_radius)
+        gown = pad_to_quads(x[scene.gown.triangles])
+        light = self.view.light()
+        colors = [
+            shade(body, SKIN, 1.0, light, two_sided=False),
+            shade(gown, GOWN, GOWN_ALPHA, light, two_sided=True),
+        ]
+        self.solids.set_verts(np.concatenate([body, gown]))
+        self.solids.set_facecolor(np.concatenate(colors))
+        loop = x[np.append(scene.gown.feature_loop, scene.gown.feature_loop[0])]
+        self.loop.set_data_3d(*loop.T)
+        pose = scene.gripper_pose
+        self.axis.set_data_3d(*approach_axis(pose, AXIS_LENGTH).T)
+        self.gripper.set_data_3d(*pose[:3, None])
+        self.caption.set_text(caption or "")
+        self.canvas.draw()
+        return np.asarray(self.canvas.buffer_rgba())[:, :, :3].copy()
+
+
+def render_frame(
+    scene: Scene,
+    width: int = 480,
+    height: int = 360,
+    view: View = View(),
+    caption: str | None = None,
+) -> np.ndarray:
+    """One (H, W, 3) uint8 frame from a fresh figure; hold a ``Renderer`` to draw many faster."""
+    return Renderer(width, height, view).render(scene, caption)
+
+
+def _make_axes(figure: Figure, view: View) -> Axes3D:
+    """Full-frame 3-D axes with equal aspect, fixed limits and camera, and nothing but data."""
+    ax = figure.add_axes((0.0, 0.0, 1.0, 1.0), projection="3d", computed_zorder=False)
+    ax.set_xlim(view.xlim)
+    ax.set_ylim(view.ylim)
+    ax.set_zlim(view.zlim)
+    spans = [hi - lo for lo, hi in (view.xlim, view.ylim, view.zlim)]
+    ax.set_box_aspect(spans, zoom=view.zoom)
+    ax.view_init(elev=view.elev, azim=view.azim)
+    ax.set_axis_off()
+    return ax
+
+
+def capsule_rings(capsules: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """(C, 6, SIDES, 3) rings of points around each capsule: two hemispheres and a cylinder."""
+    a, b = capsules[:, 0], capsules[:, 1]
+    w = b - a
+    length = np.linalg.norm(w, axis=1, keepdims=True)
+    w = np.where(length > 1e-9, w / np.maximum(length, 1e-9), [0.0, 0.0, 1.0])
+    helper = np.where(np.abs(w[:, 2:3]) < 0.9, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+    u = np.cross(w, helper)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(w, u)
+    theta = np.linspace(0.0, 2.0 * np.pi, SIDES, endpoint=False)
+    around = np.cos(theta)[:, None, None] * u + np.sin(theta)[:, None, None] * v  # (S, C, 3)
+    centre = capsules[:, CAP_ENDS]  # (C, 6, 3)
+    r = radius[:, None, None, None]
+    lat = CAP_ANGLES[None, :, None, None]
+    radial = np.cos(lat) * around.transpose(1, 0, 2)[:, None]  # (C, 6, S, 3)
+    return centre[:, :, None] + r * (radial + np.sin(lat) * w[:, None, None])
+
+
+def body_faces(capsules: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """(C * 5 * SIDES, 4, 3) outward quads tiling every capsule between consecutive rings."""
+    rings = capsule_rings(capsules, radius)
+    nxt = np.roll(np.arange(SIDES), -1)
+    lo, hi = rings[:, :-1], rings[:, 1:]
+    quads = np.stack([lo, lo[:, :, nxt], hi[:, :, nxt], hi], axis=3)  # (C, 5, S, 4, 3)
+    return quads.reshape(-1, 4, 3)
+
+
+def pad_to_quads(triangles: np.ndarray) -> np.ndarray:
+    """(F, 4, 3) from (F, 3, 3) by repeating the last corner, so all faces share one array."""
+    return np.concatenate([triangles, triangles[:, 2:]], axis=1)
+
+
+def approach_axis(pose: np.ndarray, length: float) -> np.ndarray:
+    """(2, 3) segment from the gripper along its local +x, the way the arm enters the sleeve."""
+    return pose[:3] + np.outer([0.0, length], quat_matrix(pose[3:])[:, 0])
+
+
+def shade(
+    faces: np.ndarray, rgb: np.ndarray, alpha: float, light: np.ndarray, two_sided: bool
+) -> np.ndarray:
+    """(F, 4) RGBA per face: Lambert shading of its normal, so the surface's shape reads."""
+    normal = np.cross(faces[:, 2] - faces[:, 0], faces[:, 3] - faces[:, 1])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
+    cosine = normal @ light
+    lit = np.abs(cosine) if two_sided else np.maximum(cosine, 0.0)
+    intensity = AMBIENT + (1.0 - AMBIENT) * lit
+    out = np.empty((len(faces), 4))
+    out[:, :3] = intensity[:, None] * rgb
+    out[:, 3] = alpha
+    return out
+
+
+def save_video(frames: list[np.ndarray], path: str | Path, fps: int = 25) -> None:
+    """Write frames as ``.gif`` (Pillow) or ``.mp4`` (imageio-ffmpeg), chosen by the suffix."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise ValueError(f"cannot write video {path.name!r}: use a .gif or .mp4 suffix")
+    if not frames:
+        raise ValueError(f"no frames to write to {path.name!r}")
+    _require("imageio", "imageio", suffix)
+    import imageio.v3 as iio
+
+    if suffix == ".gif":
+        iio.imwrite(path, np.stack(frames), plugin="pillow", duration=1000.0 / fps, loop=0)
+        return
+    _require("imageio_ffmpeg", "imageio-ffmpeg", suffix)
+    iio.imwrite(path, np.stack(frames), plugin="FFMPEG", fps=fps, macro_block_size=2)
+
+
+def _require(module: str, package: str, suffix: str) -> None:
+    """Import an optional video dependency, or say in one line which package to install."""
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        raise RuntimeError(f"writing {suffix} needs {package}: pip install {package}") from None

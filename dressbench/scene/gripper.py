@@ -1,0 +1,75 @@
+"""The gripper's hold on the armhole, as a rigid hoop the human's body cannot pass through.
+
+The gripper holds the whole armhole loop, so that part of the gown is rigid. The cloth's pinned
+vertices follow it, but a light cloth cannot stop an arm, and a penalty spring stiff enough to
+stop one is unstable at dt = 0.01 s. So the held loop is also a kinematic body in DART: a closed
+chain of thin capsules along the loop. DART's contact solver keeps the human's capsules out of
+it, which is what stops an arm from sweeping into the opening across its rim.
+"""
+
+from __future__ import annotations
+
+import dartpy as dart
+import numpy as np
+
+from .geometry import quat_matrix, rotation_z_to
+from .human import Human
+
+
+class Hoop:
+    """A kinematic ring of capsules through the held loop's vertices, moved with the gripper."""
+
+    def __init__(self, human: Human, loop: np.ndarray, radius: float = 0.006) -> None:
+        self.skeleton = dart.dynamics.Skeleton("gripper_hoop")
+        joint, body = self.skeleton.createFreeJointAndBodyNodePair()
+        body.setName("hoop")
+        closed = np.vstack([loop, loop[:1]])
+        for a, b in zip(closed[:-1], closed[1:], strict=True):
+            axis = b - a
+            length = float(np.linalg.norm(axis))
+            node = body.createShapeNode(dart.dynamics.CapsuleShape(radius, length))
+            tf = dart.math.Isometry3()
+            tf.set_translation((a + b) / 2.0)
+            tf.set_rotation(rotation_z_to(axis / length))
+            node.setRelativeTransform(tf)
+            node.createCollisionAspect()
+            node.createVisualAspect()
+            node.createDynamicsAspect()
+        self.skeleton.setMobile(False)
+        self._joint = joint
+        human.world.addSkeleton(self.skeleton)
+        self._body_of_shape = {
+            human_body.getShapeNode(k).getName(): i
+            for i, human_body in enumerate(human._bodies)
+            for k in range(human_body.getNumShapeNodes())
+        }
+        self._world = human.world
+
+    def set_pose(self, pose: np.ndarray) -> None:
+        """Place the hoop at a gripper pose (x, y, z, qx, qy, qz, qw)."""
+        tf = dart.math.Isometry3()
+        tf.set_translation(pose[:3])
+        tf.set_rotation(quat_matrix(pose[3:]))
+        self._joint.setTransform(tf)
+
+    def contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The last DART step's hoop contacts: human body index, point, force on the body."""
+        bodies, points, forces = [], [], []
+        for c in self._world.getLastCollisionResult().getContacts():
+            names = (
+                c.collisionObject1.getShapeFrame().getName(),
+                c.collisionObject2.getShapeFrame().getName(),
+            )
+            if not any(n.startswith("hoop") for n in names):
+                continue
+            human_first = names[0] in self._body_of_shape
+            body = self._body_of_shape.get(names[0] if human_first else names[1])
+            if body is None:
+                continue
+            bodies.append(body)
+            points.append(np.asarray(c.point))
+            force = np.asarray(c.force)  # DART: the force on the first object
+            forces.append(force if human_first else -force)
+        if not bodies:
+            return np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3))
+        return np.array(bodies), np.array(points), np.array(forces)

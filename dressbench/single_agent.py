@@ -1,0 +1,49 @@
+"""A gymnasium view of the human agent, with the robot driven by its strategy."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from .env import HUMAN, ROBOT, DressingEnv
+
+
+class HumanEnv(gym.Env):
+    """The human's side of a ``DressingEnv``: what stable-baselines3 trains on."""
+
+    metadata = DressingEnv.metadata
+
+    def __init__(self, env: DressingEnv) -> None:
+        self.env = env
+        self.render_mode = env.render_mode
+        self.observation_space = env.observation_space(HUMAN)
+        self.action_space = env.action_space(HUMAN)
+        self._robot_obs: np.ndarray | None = None
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        observations, infos = self.env.reset(seed=seed, options=options)
+        self._robot_obs = observations[ROBOT]
+        return observations[HUMAN], infos[HUMAN]
+
+    def step(self, action: np.ndarray):
+        robot_action = np.asarray(self.env.robot_strategy.act(self._robot_obs), dtype=float)
+        observations, rewards, terminations, truncations, infos = self.env.step(
+            {HUMAN: action, ROBOT: robot_action}
+        )
+        self._robot_obs = observations[ROBOT]
+        return (
+            observations[HUMAN],
+            rewards[HUMAN],
+            terminations[HUMAN],
+            truncations[HUMAN],
+            infos[HUMAN],
+        )
+
+    def render(self) -> Any:
+        return self.env.render()
+
+    def close(self) -> None:
+        self.env.close()
