@@ -51,7 +51,34 @@ def bench_scene(vertices: int, steps: int, device: str = "cpu", repeats: int = 3
     return [
         _row(n_vertices, "cloth", steps, _best_time(cloth_alone, repeats)),
         _row(n_vertices, "scene", steps, _best_time(whole_step, repeats), scene.failed),
+        bench_env(vertices, steps, device, repeats),
     ]
+
+
+def bench_env(vertices: int, steps: int, device: str = "cpu", repeats: int = 3) -> dict:
+    """Time the single-agent env's step (``fixed`` robot, the scripted human's actions).
+
+    Only ``env.step`` is timed: the policy's own thinking is not the environment's cost.
+    """
+    from . import make_human_env
+    from .plugins import load_human
+
+    env = make_human_env("fixed", gown_vertices=vertices, horizon=steps, device=device)
+    human = load_human("scripted")
+    best, failed = float("inf"), False
+    for episode in range(repeats):
+        observation, _ = env.reset(seed=episode)
+        elapsed = 0.0
+        for _ in range(steps):
+            action = human.act(observation)
+            start = time.perf_counter()
+            observation, _, terminated, _, info = env.step(action)
+            elapsed += time.perf_counter() - start
+            failed |= info["sim_failure"]
+            if terminated:
+                break
+        best = min(best, elapsed)
+    return _row(len(env.env.scene.gown.positions), "env", steps, best, failed)
 
 
 def _best_time(run, repeats: int) -> float:

@@ -23,7 +23,7 @@ def main() -> None:
 def bench(
     vertices: tuple[int, ...], steps: int, repeats: int, quick: bool, device: str, as_json: bool
 ) -> None:
-    """Time the cloth alone and the whole scene step (one process, one core)."""
+    """Time the cloth alone, the whole scene step and the env step (one process, one core)."""
     from .bench import bench_scene
 
     sizes = vertices or ((2000,) if quick else (1000, 2000, 4000))
@@ -40,3 +40,16 @@ def bench(
                     f"{row['vertices']:>8} {row['what']:>6} {row['steps_per_second']:>9.1f}"
                     f" {row['ms_per_step']:>9.3f}{flag}"
                 )
+
+
+@main.command()
+def plugins() -> None:
+    """List every robot strategy and human policy plugin, with its package and status."""
+    from .plugins import all_plugins
+
+    rows = all_plugins()
+    click.echo(f"{'group':<7} {'name':<16} {'package':<22} {'version':<9} status")
+    for p in rows:
+        group = "robot" if p.group.endswith("robots") else "human"
+        status = "ok" if p.ok else f"BROKEN: {p.error}"
+        click.echo(f"{group:<7} {p.name:<16} {p.package:<22} {p.version:<9} {status}")

@@ -11,6 +11,8 @@ PYTHON=${PYTHON:-python3}
 # a multi-gigabyte CUDA build.
 .venv/bin/python -m pip install -q torch==2.13.0
 .venv/bin/python -m pip install -q -e ".[dev]"
+# The example third-party plugin package (plugins/), installed as a user would install theirs
+.venv/bin/python -m pip install -q -e plugins/dressbench-arc
 if [ "${1:-}" != "--no-run" ]; then
     .venv/bin/dressbench bench --quick
 fi

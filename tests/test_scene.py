@@ -57,7 +57,7 @@ def test_the_gown_hanging_from_a_still_gripper_settles(scene):
     print(f"rest stretch: median {np.median(stretch):.4f}, p95 {p95:.4f}, max {stretch.max():.4f}")
     assert np.median(np.abs(stretch)) < 0.01
     assert p95 < 0.08
-    assert stretch.max() < 0.35  # a few edges by the armhole, where the whole gown hangs
+    assert stretch.max() < 0.7  # a few edges where the unheld left half hangs from the right
 
 
 def test_the_sleeve_slides_over_an_outstretched_arm(scene):

@@ -1,10 +1,11 @@
-"""The gripper's hold on the armhole, as a rigid hoop the human's body cannot pass through.
+"""The gripper's hold on the gown, as a rigid hoop the human's body cannot pass through.
 
-The gripper holds the whole armhole loop, so that part of the gown is rigid. The cloth's pinned
-vertices follow it, but a light cloth cannot stop an arm, and a penalty spring stiff enough to
-stop one is unstable at dt = 0.01 s. So the held loop is also a kinematic body in DART: a closed
-chain of thin capsules along the loop. DART's contact solver keeps the human's capsules out of
-it, which is what stops an arm from sweeping into the opening across its rim.
+The gripper holds the whole armhole loop and the shoulder seam, so that part of the gown is
+rigid. The cloth's pinned vertices follow it, but a light cloth cannot stop an arm, and a penalty
+spring stiff enough to stop one is unstable at dt = 0.01 s. So the held part is also a kinematic
+body in DART: chains of thin capsules along the loop and the seam. DART's contact solver keeps
+the human's capsules out of it, which is what stops an arm from sweeping into the opening
+across its rim.
 """
 
 from __future__ import annotations
@@ -17,24 +18,19 @@ from .human import Human
 
 
 class Hoop:
-    """A kinematic ring of capsules through the held loop's vertices, moved with the gripper."""
+    """Kinematic capsule chains through the held vertices, moved with the gripper."""
 
-    def __init__(self, human: Human, loop: np.ndarray, radius: float = 0.006) -> None:
+    def __init__(
+        self, human: Human, rings: list[np.ndarray], bars: list[np.ndarray], radius: float = 0.006
+    ) -> None:
+        """``rings`` are closed polylines, ``bars`` open ones, in the gown's frame."""
         self.skeleton = dart.dynamics.Skeleton("gripper_hoop")
         joint, body = self.skeleton.createFreeJointAndBodyNodePair()
         body.setName("hoop")
-        closed = np.vstack([loop, loop[:1]])
-        for a, b in zip(closed[:-1], closed[1:], strict=True):
-            axis = b - a
-            length = float(np.linalg.norm(axis))
-            node = body.createShapeNode(dart.dynamics.CapsuleShape(radius, length))
-            tf = dart.math.Isometry3()
-            tf.set_translation((a + b) / 2.0)
-            tf.set_rotation(rotation_z_to(axis / length))
-            node.setRelativeTransform(tf)
-            node.createCollisionAspect()
-            node.createVisualAspect()
-            node.createDynamicsAspect()
+        lines = [np.vstack([r, r[:1]]) for r in rings] + list(bars)
+        for line in lines:
+            for a, b in zip(line[:-1], line[1:], strict=True):
+                _add_capsule(body, a, b, radius)
         self.skeleton.setMobile(False)
         self._joint = joint
         human.world.addSkeleton(self.skeleton)
@@ -73,3 +69,16 @@ class Hoop:
         if not bodies:
             return np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3))
         return np.array(bodies), np.array(points), np.array(forces)
+
+
+def _add_capsule(body: dart.dynamics.BodyNode, a: np.ndarray, b: np.ndarray, radius: float) -> None:
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    node = body.createShapeNode(dart.dynamics.CapsuleShape(radius, length))
+    tf = dart.math.Isometry3()
+    tf.set_translation((a + b) / 2.0)
+    tf.set_rotation(rotation_z_to(axis / length))
+    node.setRelativeTransform(tf)
+    node.createCollisionAspect()
+    node.createVisualAspect()
+    node.createDynamicsAspect()

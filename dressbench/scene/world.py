@@ -54,7 +54,8 @@ class Scene:
         self.gown: Gown = make_gown(config.gown)
         self.human = Human(config.human, dt=config.dt)
         g = self.gown
-        self.pinned = g.feature_loop  # the gripper holds the whole armhole ring
+        self.shoulder_seam = shoulder_seam(g)
+        self.pinned = np.concatenate([g.feature_loop, self.shoulder_seam])  # what the gripper holds
         anchor, length = tethers(g, self.pinned)
         self.cloth = Cloth(
             g.positions,
@@ -77,7 +78,11 @@ class Scene:
             dt=config.dt,
             device=config.device,
         )
-        self.hoop = Hoop(self.human, g.positions[self.pinned])
+        self.hoop = Hoop(
+            self.human,
+            rings=[g.positions[g.feature_loop]],
+            bars=[g.positions[np.r_[g.feature_loop[:1], self.shoulder_seam]]],
+        )
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
         self.failed = False
@@ -189,6 +194,20 @@ class Scene:
 
     def effector_contacts(self) -> np.ndarray:
         return self.cloth.effector_contacts()
+
+
+def shoulder_seam(gown: Gown) -> np.ndarray:
+    """The right shoulder seam from the armhole's top to the neck, which the gripper also holds.
+
+    Held by the armhole alone, the gown's shoulder strip and body fall across the opening; held
+    along the shoulder seam too, the body hangs down on both sides of the hand's way in.
+    """
+    c = gown.config
+    u, v = gown.pattern[:, 0], gown.pattern[:, 1]
+    on_seam = (gown.sheet == SEAM) & np.isclose(v, c.body_length)
+    right = (u > -c.body_width / 2 + 1e-9) & (u <= -c.neck_half_width + 1e-9)
+    seam = np.flatnonzero(on_seam & right)
+    return seam[np.argsort(u[seam])].astype(np.int32)  # from the armhole toward the neck
 
 
 def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
