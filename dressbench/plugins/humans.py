@@ -44,11 +44,10 @@ class Scripted:
     """A non-learned baseline: steers the fingertip with damped least squares on the arm's
     Jacobian (an internal body model) and backs off when the haptic forces grow.
 
-    Its direction is the task vector, except before any contact, where the task vector points
-    straight at the opening's centre and would hit the rim: there it first lines the hand up
-    on the axis from its shoulder through the opening (it assumes, as a person would, that the
-    opening faces it), then pushes along that axis. It reads only the observation; the spine is
-    left at rest, so the torso stays upright.
+    It first brings the hand under the way in, rises into line with the axis from its shoulder
+    through the opening's centre (it assumes, as a person would, that the opening faces it),
+    pushes along that axis with the wrist trailing, and once past the opening follows the task
+    vector. It reads only the observation; the spine is left at rest, so the torso stays upright.
     """
 
     api_version: ClassVar[int] = 1
@@ -59,6 +58,7 @@ class Scripted:
     back_off_force = 20.0  # N: above this total haptic force the hand moves back
     approach_distance = 0.12  # m before the opening where the hand lines up
     aligned = 0.025  # m off the axis that counts as lined up
+    rise = 0.2  # m: the hand comes up into the way in from this far below it
 
     def __init__(self) -> None:
         from ..scene.human import Human  # the body model, used for kinematics only
@@ -72,27 +72,38 @@ class Scripted:
     def act(self, observation: np.ndarray) -> np.ndarray:
         obs = np.asarray(observation, dtype=float)
         q = np.arctan2(obs[N_DOFS : 2 * N_DOFS], obs[:N_DOFS])
-        jac = self._body.fingertip_jacobian(q)[:, self._arm]  # also poses the body model
-        shoulder = self._body.arm_chain(self._body.body_transforms())[3]
-        direction = self._direction(obs, shoulder)
+        tip_jac, wrist_jac = self._body.hand_jacobians(q)  # also poses the body model
+        tip, wrist, _, shoulder = self._body.arm_chain(self._body.body_transforms())
+        direction, lined_up = self._direction(obs, shoulder)
         dx = self._gain(obs) * self.step_size * direction
-        dq = jac.T @ np.linalg.solve(jac @ jac.T + self.damping**2 * np.eye(3), dx)
+        jac = tip_jac[:, self._arm]
+        if lined_up:  # the wrist trails the fingertip, so the hand points along the axis
+            wrist_step = tip + dx - np.linalg.norm(tip - wrist) * direction - wrist
+            wrist_step *= min(1.0, self.step_size / max(np.linalg.norm(wrist_step), 1e-9))
+            jac = np.vstack([jac, wrist_jac[:, self._arm]])
+            dx = np.concatenate([dx, wrist_step])
+        dq = jac.T @ np.linalg.solve(jac @ jac.T + self.damping**2 * np.eye(len(dx)), dx)
         target = q.copy()
         target[self._arm] += dq
         return self._body.action_for(target)
 
-    def _direction(self, obs: np.ndarray, shoulder: np.ndarray) -> np.ndarray:
+    def _direction(self, obs: np.ndarray, shoulder: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Where the fingertip should go, and whether it is lined up on the way in."""
         feature = 3 * N_DOFS
         centroid, offset = obs[feature : feature + 3], obs[feature + 3 : feature + 6]
         axis = _unit(centroid - shoulder)
         along = offset @ axis
-        lined_up = np.linalg.norm(offset - along * axis) <= self.aligned
+        tip = centroid + offset
+        if np.linalg.norm(offset - along * axis) > self.aligned:  # off the axis: line up first
+            entry = centroid - self.approach_distance * axis
+            below = entry - np.array([0.0, 0.0, self.rise])
+            if np.linalg.norm((tip - below)[:2]) > self.aligned and tip[2] < entry[2]:
+                return _unit(below - tip), False  # under the way in, then up into it
+            return _unit(entry - tip), False
         task = None if self.ablation == "no_task" else _unit(obs[-3:])
-        if task is not None and task @ _unit(-offset) < 0.999 and not lined_up:
-            return task  # touching the gown off the axis: follow the task vector
-        if along < 0.0 and not lined_up:
-            return _unit(centroid - self.approach_distance * axis - (centroid + offset))
-        return axis
+        if along > 0.0 and task is not None:
+            return task, True  # through the opening: the task vector is the way on
+        return axis, True
 
     def _gain(self, obs: np.ndarray) -> float:
         """+1 without haptic force, falling to -1 (moving back) at ``back_off_force``."""

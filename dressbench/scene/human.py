@@ -285,11 +285,16 @@ class Human:
 
     def fingertip_jacobian(self, q: np.ndarray) -> np.ndarray:
         """(3, 22) world-frame Jacobian of the fingertip at configuration ``q`` (sets q)."""
+        return self.hand_jacobians(q)[0]
+
+    def hand_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(3, 22) world-frame Jacobians of the fingertip and the wrist at ``q`` (sets q)."""
         self.skeleton.setPositions(q)
         hand = self._bodies[self._chain[0]]
-        return np.asarray(
-            self.skeleton.getLinearJacobian(hand, self._tip_local, dart.dynamics.Frame.World())
-        )
+        world = dart.dynamics.Frame.World()
+        tip = self.skeleton.getLinearJacobian(hand, self._tip_local, world)
+        wrist = self.skeleton.getLinearJacobian(hand, _ORIGIN, world)
+        return np.asarray(tip), np.asarray(wrist)
 
     def torso_up(self, transforms: np.ndarray) -> np.ndarray:
         return transforms[self.torso_index][:3, 2].copy()

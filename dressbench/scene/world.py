@@ -15,7 +15,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from .cloth import Cloth, ClothConfig
-from .garment import BACK, SEAM, Gown, GownConfig, make_gown
+from .garment import BACK, FRONT, SEAM, Gown, GownConfig, make_gown
 from .geometry import interpolate_pose, quat_matrix, transform_points
 from .gripper import Hoop
 from .human import Human, HumanConfig
@@ -54,8 +54,8 @@ class Scene:
         self.gown: Gown = make_gown(config.gown)
         self.human = Human(config.human, dt=config.dt)
         g = self.gown
-        self.shoulder_seam = shoulder_seam(g)
-        self.pinned = np.concatenate([g.feature_loop, self.shoulder_seam])  # what the gripper holds
+        lines = held_lines(g)
+        self.pinned = np.unique(np.concatenate([g.feature_loop, *lines]))  # what the gripper holds
         anchor, length = tethers(g, self.pinned)
         self.cloth = Cloth(
             g.positions,
@@ -81,7 +81,7 @@ class Scene:
         self.hoop = Hoop(
             self.human,
             rings=[g.positions[g.feature_loop]],
-            bars=[g.positions[np.r_[g.feature_loop[:1], self.shoulder_seam]]],
+            bars=[g.positions[line] for line in lines],
         )
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
@@ -196,18 +196,22 @@ class Scene:
         return self.cloth.effector_contacts()
 
 
-def shoulder_seam(gown: Gown) -> np.ndarray:
-    """The right shoulder seam from the armhole's top to the neck, which the gripper also holds.
+def held_lines(gown: Gown, length: float = 0.2) -> list[np.ndarray]:
+    """Lines of the body the gripper holds besides the armhole, each from the loop outward.
 
-    Held by the armhole alone, the gown's shoulder strip and body fall across the opening; held
-    along the shoulder seam too, the body hangs down on both sides of the hand's way in.
+    Held by the armhole alone, the body of the gown hangs across the way to the opening. Like a
+    caregiver presenting a gown, the gripper also holds the shoulder seam and the front and back
+    panels at the opening's mid-height, ``length`` along the body: the panels then hang on both
+    sides of a tunnel that leads the hand to the armhole.
     """
     c = gown.config
     u, v = gown.pattern[:, 0], gown.pattern[:, 1]
-    on_seam = (gown.sheet == SEAM) & np.isclose(v, c.body_length)
-    right = (u > -c.body_width / 2 + 1e-9) & (u <= -c.neck_half_width + 1e-9)
-    seam = np.flatnonzero(on_seam & right)
-    return seam[np.argsort(u[seam])].astype(np.int32)  # from the armhole toward the neck
+    near = (u >= -c.body_width / 2 - 1e-9) & (u <= -c.body_width / 2 + length + 1e-9)
+    middle = c.body_length - c.sleeve_width / 2
+    mid_row = v[np.argmin(np.abs(v - middle))]
+    lines = [(gown.sheet == SEAM) & np.isclose(v, c.body_length) & near]
+    lines += [(gown.sheet == sheet) & np.isclose(v, mid_row) & near for sheet in (FRONT, BACK)]
+    return [idx[np.argsort(u[idx])].astype(np.int32) for idx in map(np.flatnonzero, lines)]
 
 
 def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
