@@ -53,3 +53,87 @@ def plugins() -> None:
         group = "robot" if p.group.endswith("robots") else "human"
         status = "ok" if p.ok else f"BROKEN: {p.error}"
         click.echo(f"{group:<7} {p.name:<16} {p.package:<22} {p.version:<9} {status}")
+
+
+@main.command()
+@click.option("--robot", default="fixed", show_default=True, help="Robot strategy to train for.")
+@click.option("--algo", type=click.Choice(["trpo", "ppo"]), default="trpo", show_default=True)
+@click.option(
+    "--ablation",
+    type=click.Choice(["complete", "no_haptics", "no_task"]),
+    default="complete",
+    show_default=True,
+)
+@click.option("--timesteps", default=200_000, show_default=True, help="Environment steps.")
+@click.option("--envs", default=0, help="Parallel env processes (default: one per core).")
+@click.option("--seed", default=0, show_default=True)
+@click.option("--gown-vertices", default=2000, show_default=True)
+@click.option("--out", default="runs", show_default=True, help="Folder of training runs.")
+@click.option("--policies", default="policies", show_default=True, help="Where models go.")
+@click.option("--name", default="", help="Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).")
+@click.option("--resume/--fresh", default=True, show_default=True,
+              help="Continue from the run's last checkpoint, or start over.")  # fmt: skip
+def train(resume: bool, **options) -> None:
+    """Train a human model for a robot strategy (re-running resumes after a kill)."""
+    import shutil
+
+    from .training import TrainConfig
+    from .training import train as train_policy
+
+    config = TrainConfig(**options)
+    if not resume:
+        shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
+    path = train_policy(config)
+    click.echo(f"policy written to {path}")
+
+
+@main.group(invoke_without_command=True)
+@click.option("--robot", help="Robot strategy.")
+@click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
+@click.option("--episodes", default=100, show_default=True)
+@click.option("--seed", default=0, show_default=True)
+@click.option("--workers", default=0, help="Parallel processes (default: one per core).")
+@click.option("--gown-vertices", default=2000, show_default=True)
+@click.option("--out", default="results", show_default=True)
+@click.pass_context
+def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out):
+    """Score a human with a robot strategy over seeded rollouts; see also `leaderboard`."""
+    if ctx.invoked_subcommand is not None:
+        return
+    if not robot or not human:
+        raise click.UsageError("give --robot and --human, or use `dressbench evaluate leaderboard`")
+    from .evaluation import evaluate as run_evaluation
+
+    run_evaluation(robot, human, episodes=episodes, seed=seed, workers=workers or None, out=out,
+                   gown_vertices=gown_vertices)  # fmt: skip
+    click.echo(f"results in {out}/ (episodes.csv, curves.csv, leaderboard.md, plots)")
+
+
+@evaluate.command("leaderboard")
+@click.option("--episodes", default=100, show_default=True)
+@click.option("--seed", default=0, show_default=True)
+@click.option("--workers", default=0, help="Parallel processes (default: one per core).")
+@click.option("--gown-vertices", default=2000, show_default=True)
+@click.option("--horizon", default=400, show_default=True)
+@click.option("--out", default="results", show_default=True)
+def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out):
+    """Every robot strategy against the humans trained for it and the baselines."""
+    from .evaluation import leaderboard
+
+    leaderboard(episodes=episodes, seed=seed, workers=workers or None, out=out,
+                gown_vertices=gown_vertices, horizon=horizon)  # fmt: skip
+    click.echo(f"leaderboard in {out}/leaderboard.md, plots in {out}/*.png")
+
+
+@main.command()
+@click.option("--robot", default="fixed", show_default=True)
+@click.option("--human", default="scripted", show_default=True)
+@click.option("--out", "path", default="rollout.gif", show_default=True, help="A .gif or .mp4.")
+@click.option("--seed", default=0, show_default=True)
+@click.option("--gown-vertices", default=2000, show_default=True)
+def render(robot, human, path, seed, gown_vertices):
+    """A headless video of one rollout (the human's capsules, the gown, the gripper)."""
+    from .render import render_rollout
+
+    video = render_rollout(robot, human, path, seed=seed, gown_vertices=gown_vertices)
+    click.echo(f"video written to {video}")

@@ -20,7 +20,7 @@ class RewardConfig:
     deformation: float = 6.0
     geodesic: float = 2.0
     upright: float = 1.0
-    deformation_threshold: float = 15.0
+    deformation_threshold: float = 5.0  # the paper: 15; see docs/reward.md
     deformation_scale: float = 0.7
 
 

@@ -197,3 +197,37 @@ def _require(module: str, package: str, suffix: str) -> None:
         importlib.import_module(module)
     except ImportError:
         raise RuntimeError(f"writing {suffix} needs {package}: pip install {package}") from None
+
+
+def render_rollout(
+    robot: str,
+    human: str,
+    path: str | Path,
+    seed: int = 0,
+    every: int = 2,
+    fps: int | None = None,
+    **options,
+) -> Path:
+    """Run one seeded rollout of a human plugin with a robot strategy and save it as a video.
+
+    Every ``every``-th policy step becomes a frame; by default the video plays in real time.
+    """
+    from . import make_human_env
+    from .plugins import load_human
+
+    policy = load_human(human)
+    env = make_human_env(robot, ablation=policy.ablation, **options)
+    observation, _ = env.reset(seed=seed)
+    policy.reset(seed)
+    renderer = Renderer()
+    frames = [renderer.render(env.env.scene, caption="t = 0.00 s")]
+    for step in range(1, env.env.config.horizon + 1):
+        observation, _, terminated, truncated, info = env.step(policy.act(observation))
+        if step % every == 0 or terminated or truncated:
+            seconds, progress = step * 0.04, info["arm_progress"]
+            caption = f"{robot} / {human}  t = {seconds:.2f} s  arm progress {progress:.2f} m"
+            frames.append(renderer.render(env.env.scene, caption=caption))
+        if terminated or truncated:
+            break
+    save_video(frames, path, fps=fps or round(25 / every))
+    return Path(path)

@@ -7,10 +7,13 @@ broken, so that one broken package never hides the others and listings can say w
 
 from __future__ import annotations
 
+import functools
 import importlib
+import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import cast
 
 from dressbench.plugins.protocols import (
@@ -96,6 +99,36 @@ def _entry_point_entries(group: str) -> list[_Entry]:
     return entries
 
 
+def policy_folders() -> list[Path]:
+    """Where trained human models are looked for: ``DRESSBENCH_POLICIES`` (a path list) if
+    set, else ``policies/`` in the working directory and in the dressbench checkout."""
+    configured = os.environ.get("DRESSBENCH_POLICIES")
+    if configured:
+        folders = [Path(p) for p in configured.split(os.pathsep) if p]
+    else:
+        folders = [Path.cwd() / "policies", Path(__file__).resolve().parents[2] / "policies"]
+    unique: dict[Path, None] = {}
+    for folder in folders:
+        unique.setdefault(folder.resolve(), None)
+    return list(unique)
+
+
+def _policy_file_entries(group: str) -> list[_Entry]:
+    """Trained models (``NAME.safetensors`` + ``NAME.json``) as human plugins named NAME."""
+    from ..training.policy_file import list_policies, load_policy
+
+    entries = []
+    for folder in policy_folders():
+        for path in list_policies(folder):
+            factory = functools.partial(load_policy, path)
+            entries.append(
+                _Entry(
+                    path.stem, group, f"policy file {path}", "file", str(path), lambda f=factory: f
+                )
+            )
+    return entries
+
+
 @dataclass(frozen=True)
 class _Kind:
     """What a group's plugins must provide, and where its plugins come from."""
@@ -105,12 +138,19 @@ class _Kind:
     api_version: int
     methods: tuple[str, ...]
     attributes: tuple[str, ...]
-    # Each source lists a group's plugins; humans will later add trained files in policies/.
+    # Each source lists a group's plugins: installed entry points, and for humans trained files.
     sources: tuple[Callable[[str], list[_Entry]], ...] = (_entry_point_entries,)
 
 
 _ROBOT = _Kind(ROBOT_GROUP, "robot", ROBOT_API_VERSION, ("reset", "act"), ())
-_HUMAN = _Kind(HUMAN_GROUP, "human", HUMAN_API_VERSION, ("reset", "act"), ("robot", "ablation"))
+_HUMAN = _Kind(
+    HUMAN_GROUP,
+    "human",
+    HUMAN_API_VERSION,
+    ("reset", "act"),
+    ("robot", "ablation"),
+    sources=(_entry_point_entries, _policy_file_entries),
+)
 
 _cache: dict[str, list[Plugin]] = {}
 

@@ -1,0 +1,28 @@
+"""Training human policies (``train``), and the policy files they ship as (``policy_file``).
+
+Importing this package is light: the policy files need NumPy and safetensors only; torch and
+stable-baselines3 load only when a model is exported or trained.
+"""
+
+from __future__ import annotations
+
+from .policy_file import (
+    PolicyFileError,
+    TrainedPolicy,
+    list_policies,
+    load_policy,
+    policy_paths,
+    save_policy,
+)
+from .train import TrainConfig, train
+
+__all__ = [
+    "PolicyFileError",
+    "TrainedPolicy",
+    "list_policies",
+    "load_policy",
+    "policy_paths",
+    "save_policy",
+    "TrainConfig",
+    "train",
+]

@@ -1,0 +1,467 @@
+"""Trained human policies on disk: safetensors weights plus JSON metadata, loaded without pickle.
+
+A policy named NAME is the pair ``NAME.safetensors`` (the actor MLP, its Gaussian ``log_std`` and
+the observation normalisation) and ``NAME.json`` (format, architecture, a checksum of the tensors
+and the training metadata). SB3's own ``.zip`` files unpickle arbitrary objects on load, so they
+are never shipped; ``load_policy`` rebuilds the actor here, in NumPy, from plain numbers. NumPy
+rather than torch because acting is one small matrix-vector product per layer per step, where
+torch's per-call overhead dominates, and because loading then never imports torch. See
+``docs/policy_files.md``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import re
+from collections.abc import Callable
+from itertools import pairwise
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import safetensors.numpy
+from safetensors import SafetensorError
+
+if TYPE_CHECKING:
+    from stable_baselines3.common.on_policy_algorithm import OnPolicyAlgorithm
+    from stable_baselines3.common.policies import ActorCriticPolicy
+    from stable_baselines3.common.running_mean_std import RunningMeanStd
+
+FORMAT = "dressbench-policy"
+FORMAT_VERSION = 1
+ACTIVATION = "tanh"
+ACTION_SIZE = 11  # the human's action, see plugins/protocols.py
+JSON_SUFFIX = ".json"
+TENSORS_SUFFIX = ".safetensors"
+# The JSON keys the format owns; every other top-level key is the caller's metadata.
+RESERVED_KEYS = ("format", "format_version", "architecture", "obs_normalization", "tensors")
+
+
+class PolicyFileError(ValueError):
+    """A policy file pair that cannot be loaded; the one-line message names the file and why."""
+
+
+class TrainedPolicy:
+    """A trained human policy (the ``HumanPolicy`` protocol): the actor's mean action, in NumPy."""
+
+    api_version: ClassVar[int] = 1
+
+    def __init__(
+        self,
+        path: Path,
+        metadata: dict[str, Any],
+        layers: list[tuple[np.ndarray, np.ndarray]],
+        obs_mean: np.ndarray,
+        obs_var: np.ndarray,
+        clip_obs: float,
+        epsilon: float,
+        log_std: np.ndarray,
+    ) -> None:
+        self.path = path  # the .json file
+        self.name = path.stem
+        self.metadata = metadata
+        self.robot: str | None = metadata["robot"]
+        self.ablation: str = metadata["ablation"]
+        self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
+        self._hidden = layers[:-1]
+        self._action_weight, self._action_bias = layers[-1]
+        self._obs_mean = obs_mean
+        self._obs_std = np.sqrt(obs_var + epsilon)  # as VecNormalize divides
+        self._clip_obs = clip_obs
+
+    @property
+    def obs_dim(self) -> int:
+        """The observation length the policy was trained on."""
+        return self._obs_mean.shape[0]
+
+    def reset(self, seed: int | None = None) -> None:
+        """Nothing to do: the policy is deterministic and keeps no state between steps."""
+
+    def act(self, observation: np.ndarray) -> np.ndarray:
+        """The mean action for a raw (unnormalised) observation, clipped to [-1, 1], shape (11,)."""
+        obs = np.asarray(observation, dtype=np.float64)
+        if obs.shape != (self.obs_dim,):
+            raise ValueError(
+                f"policy {self.name!r} expects an observation of shape ({self.obs_dim},), "
+                f"got {obs.shape}"
+            )
+        x = np.clip((obs - self._obs_mean) / self._obs_std, -self._clip_obs, self._clip_obs)
+        for weight, bias in self._hidden:
+            x = np.tanh(weight @ x + bias)
+        return np.clip(self._action_weight @ x + self._action_bias, -1.0, 1.0)
+
+    def __repr__(self) -> str:
+        return f"TrainedPolicy({self.name!r}, robot={self.robot!r}, ablation={self.ablation!r})"
+
+
+def policy_paths(path: str | os.PathLike[str]) -> tuple[Path, Path]:
+    """``(NAME.safetensors, NAME.json)`` for either file of a pair or for its stem."""
+    path = Path(path)
+    if path.suffix in (JSON_SUFFIX, TENSORS_SUFFIX):
+        path = path.with_suffix("")
+    return path.with_name(path.name + TENSORS_SUFFIX), path.with_name(path.name + JSON_SUFFIX)
+
+
+# --- saving -------------------------------------------------------------------------------------
+
+
+def save_policy(
+    path_stem: str | os.PathLike[str],
+    model: OnPolicyAlgorithm,
+    obs_rms: RunningMeanStd,
+    metadata: dict[str, Any],
+    *,
+    clip_obs: float = 10.0,
+    epsilon: float = 1e-8,
+) -> tuple[Path, Path]:
+    """Export what acting needs from a trained SB3 PPO/TRPO ``MlpPolicy`` as a policy file pair.
+
+    ``obs_rms``, ``clip_obs`` and ``epsilon`` are those of the ``VecNormalize`` the model was
+    trained in (the defaults are VecNormalize's). ``metadata`` must name ``robot`` (str or None)
+    and ``ablation``; all of it is stored in the JSON. Each file is replaced atomically, tensors
+    first, so an interrupted save leaves a pair whose checksum does not match.
+    """
+    tensors_path, json_path = policy_paths(path_stem)
+    tensors, architecture = _export_actor(model.policy)
+    tensors |= _export_normalization(obs_rms, architecture["obs_dim"], clip_obs, epsilon)
+    _check_metadata(metadata)
+    blob = safetensors.numpy.save(tensors)
+    document = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "architecture": architecture,
+        "obs_normalization": {"clip_obs": float(clip_obs), "epsilon": float(epsilon)},
+        "tensors": {"sha256": hashlib.sha256(blob).hexdigest(), "size": len(blob)},
+        **metadata,
+    }
+    text = _to_json(document)
+    json_path.parent.mkdir(parents=True, exist_ok=True)
+    _write_atomic(tensors_path, blob)
+    _write_atomic(json_path, text.encode("utf-8"))
+    return tensors_path, json_path
+
+
+def _export_actor(policy: ActorCriticPolicy) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    """The actor's tensors and architecture, after checking the policy is one we can rebuild."""
+    from gymnasium import spaces
+    from stable_baselines3.common.distributions import DiagGaussianDistribution
+    from stable_baselines3.common.policies import ActorCriticPolicy
+    from stable_baselines3.common.torch_layers import FlattenExtractor
+    from torch import nn
+
+    if not isinstance(policy, ActorCriticPolicy):
+        raise ValueError(f"cannot export {type(policy).__name__}: expected PPO/TRPO's MlpPolicy")
+    if not isinstance(policy.action_dist, DiagGaussianDistribution):
+        raise ValueError("cannot export: the policy must be a diagonal Gaussian (no gSDE)")
+    obs_space, act_space = policy.observation_space, policy.action_space
+    if not isinstance(obs_space, spaces.Box) or len(obs_space.shape) != 1:
+        raise ValueError(f"cannot export: observations must be a 1-D Box, got {obs_space}")
+    if not isinstance(policy.pi_features_extractor, FlattenExtractor):
+        raise ValueError("cannot export: the features extractor must be the default Flatten")
+    if not (
+        isinstance(act_space, spaces.Box)
+        and act_space.shape == (ACTION_SIZE,)
+        and np.all(act_space.low == -1.0)
+        and np.all(act_space.high == 1.0)
+    ):
+        raise ValueError(f"cannot export: actions must be Box(-1, 1, ({ACTION_SIZE},))")
+    modules = list(policy.mlp_extractor.policy_net)
+    if not (
+        all(isinstance(m, nn.Linear) for m in modules[0::2])
+        and all(isinstance(m, nn.Tanh) for m in modules[1::2])
+        and len(modules) % 2 == 0
+    ):
+        raise ValueError("cannot export: the actor must be Linear layers each followed by Tanh")
+    linears = [*modules[0::2], policy.action_net]
+    tensors = {}
+    for name, layer in zip(_layer_names(len(linears) - 1), linears, strict=True):
+        tensors[f"{name}.weight"] = _numpy(layer.weight)
+        tensors[f"{name}.bias"] = _numpy(layer.bias)
+    tensors["log_std"] = _numpy(policy.log_std)
+    architecture = {
+        "hidden_sizes": [layer.out_features for layer in modules[0::2]],
+        "activation": ACTIVATION,
+        "obs_dim": obs_space.shape[0],
+        "act_dim": ACTION_SIZE,
+    }
+    return tensors, architecture
+
+
+def _numpy(tensor: Any) -> np.ndarray:
+    """A torch tensor as a contiguous NumPy array, as safetensors wants it."""
+    return np.ascontiguousarray(tensor.detach().cpu().numpy())
+
+
+def _export_normalization(
+    obs_rms: RunningMeanStd, obs_dim: int, clip_obs: float, epsilon: float
+) -> dict[str, np.ndarray]:
+    """VecNormalize's running mean and variance of the observation, checked against the policy."""
+    mean = np.ascontiguousarray(obs_rms.mean, dtype=np.float64)
+    var = np.ascontiguousarray(obs_rms.var, dtype=np.float64)
+    if mean.shape != (obs_dim,) or var.shape != (obs_dim,):
+        raise ValueError(
+            f"obs_rms has shapes {mean.shape} and {var.shape}, the policy observes ({obs_dim},)"
+        )
+    if not (_is_number(clip_obs) and clip_obs > 0 and _is_number(epsilon) and epsilon >= 0):
+        raise ValueError(f"need clip_obs > 0 and epsilon >= 0, got {clip_obs!r} and {epsilon!r}")
+    return {"obs_mean": mean, "obs_var": var}
+
+
+def _check_metadata(metadata: dict[str, Any]) -> None:
+    """Refuse metadata that would clash with the format or leave the protocol's fields unset."""
+    clashes = [key for key in RESERVED_KEYS if key in metadata]
+    if clashes:
+        raise ValueError(f"metadata may not use the format's keys: {', '.join(clashes)}")
+    if not isinstance(metadata.get("ablation"), str):
+        raise ValueError("metadata must name the 'ablation' (a string)")
+    if "robot" not in metadata or not isinstance(metadata["robot"], (str, type(None))):
+        raise ValueError("metadata must name the 'robot' (a string, or None for any robot)")
+
+
+def _to_json(document: dict[str, Any]) -> str:
+    """Strict JSON text (no NaN), or a ValueError saying which metadata cannot be written."""
+    try:
+        return json.dumps(document, indent=2, allow_nan=False) + "\n"
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"metadata cannot be written as JSON: {exc}") from None
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    """Write a temp file beside ``path`` and rename it over ``path``: readers never see half."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{os.urandom(4).hex()}.tmp")
+    try:
+        # os.open, not mkstemp: the file gets the umask's permissions, not 0600
+        with open(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), "wb") as file:
+            file.write(data)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+# --- loading ------------------------------------------------------------------------------------
+
+
+def load_policy(path: str | os.PathLike[str]) -> TrainedPolicy:
+    """The policy of a file pair, given its ``.json``, its ``.safetensors`` or its stem.
+
+    Never unpickles and never imports torch. Raises ``PolicyFileError`` naming the file when
+    either file is missing, unreadable, of another format or version, or inconsistent.
+    """
+    tensors_path, json_path = policy_paths(path)
+    document = _read_document(json_path)
+    architecture = document["architecture"]
+    tensors = _read_tensors(tensors_path, json_path, document["tensors"])
+    _check_tensors(tensors, _expected_shapes(architecture), tensors_path, json_path)
+    layers = [
+        (tensors[f"{name}.weight"].astype(np.float64), tensors[f"{name}.bias"].astype(np.float64))
+        for name in _layer_names(len(architecture["hidden_sizes"]))
+    ]
+    metadata = {key: value for key, value in document.items() if key not in RESERVED_KEYS}
+    normalization = document["obs_normalization"]
+    return TrainedPolicy(
+        json_path,
+        metadata,
+        layers,
+        obs_mean=tensors["obs_mean"].astype(np.float64),
+        obs_var=tensors["obs_var"].astype(np.float64),
+        clip_obs=float(normalization["clip_obs"]),
+        epsilon=float(normalization["epsilon"]),
+        log_std=tensors["log_std"].astype(np.float64),
+    )
+
+
+def _fail(path: Path, reason: str) -> PolicyFileError:
+    """The error for a file: ``'<path>: <reason>'`` on one line."""
+    return PolicyFileError(f"{path}: {reason}")
+
+
+def _read_bytes(path: Path, partner: Path) -> bytes:
+    """The file's content, or an error saying it is missing or unreadable."""
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise _fail(path, f"missing (a policy is a pair: it goes with {partner.name})") from None
+    except OSError as exc:
+        raise _fail(path, f"cannot be read: {exc.strerror}") from None
+
+
+def _read_document(json_path: Path) -> dict[str, Any]:
+    """The parsed and checked JSON of a policy."""
+    text = _read_bytes(json_path, policy_paths(json_path)[0])
+    try:
+        document = json.loads(text)
+    except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
+        raise _fail(json_path, f"not valid JSON ({exc})") from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        found = document.get("format") if isinstance(document, dict) else None
+        raise _fail(json_path, f"not a dressbench policy (format {found!r}, expected {FORMAT!r})")
+    version = document.get("format_version")
+    if version != FORMAT_VERSION or isinstance(version, bool):
+        raise _fail(
+            json_path,
+            f"format_version {version!r} is not supported (this dressbench reads {FORMAT_VERSION})",
+        )
+    problem = _schema_problem(document)
+    if problem:
+        raise _fail(json_path, problem)
+    return document
+
+
+def _schema_problem(document: dict[str, Any]) -> str | None:
+    """What is wrong with a version-1 document's fields, or None."""
+    for keys, valid, wanted in _FIELDS:
+        value = _field(document, keys)
+        where = ".".join(keys)
+        if value is _MISSING:
+            return f"{where} is missing"
+        if not valid(value):
+            return f"{where} must be {wanted}, found {value!r}"
+    return None
+
+
+def _field(document: dict[str, Any], keys: tuple[str, ...]) -> object:
+    """The value at a path of nested keys, or ``_MISSING``."""
+    value: object = document
+    for key in keys:
+        if not isinstance(value, dict) or key not in value:
+            return _MISSING
+        value = value[key]
+    return value
+
+
+def _read_tensors(
+    tensors_path: Path, json_path: Path, expected: dict[str, Any]
+) -> dict[str, np.ndarray]:
+    """The tensors, after checking their size and sha256 against the JSON."""
+    blob = _read_bytes(tensors_path, json_path)
+    if len(blob) != expected["size"]:
+        raise _fail(
+            tensors_path,
+            f"{len(blob)} bytes where {json_path.name} expects {expected['size']} "
+            "(truncated, or an interrupted save)",
+        )
+    if hashlib.sha256(blob).hexdigest() != expected["sha256"]:
+        raise _fail(
+            tensors_path,
+            f"checksum does not match {json_path.name} (corrupt, or an interrupted save)",
+        )
+    try:
+        return safetensors.numpy.load(blob)
+    except (SafetensorError, TypeError, ValueError) as exc:  # TypeError: a dtype NumPy lacks
+        raise _fail(tensors_path, f"not a safetensors file NumPy can read ({exc})") from None
+
+
+def _expected_shapes(architecture: dict[str, Any]) -> dict[str, tuple[int, ...]]:
+    """Every tensor name the architecture needs, with its shape (weights are (out, in))."""
+    obs_dim, act_dim = architecture["obs_dim"], architecture["act_dim"]
+    sizes = [obs_dim, *architecture["hidden_sizes"], act_dim]
+    shapes: dict[str, tuple[int, ...]] = {}
+    for name, (n_in, n_out) in zip(_layer_names(len(sizes) - 2), pairwise(sizes), strict=True):
+        shapes[f"{name}.weight"] = (n_out, n_in)
+        shapes[f"{name}.bias"] = (n_out,)
+    shapes |= {"log_std": (act_dim,), "obs_mean": (obs_dim,), "obs_var": (obs_dim,)}
+    return shapes
+
+
+def _check_tensors(
+    tensors: dict[str, np.ndarray],
+    shapes: dict[str, tuple[int, ...]],
+    tensors_path: Path,
+    json_path: Path,
+) -> None:
+    """Refuse tensors missing, extra, misshapen (for the JSON's architecture) or not finite."""
+    missing = sorted(set(shapes) - set(tensors))
+    extra = sorted(set(tensors) - set(shapes))
+    if missing or extra:
+        listed = "; ".join(
+            f"{what}: {', '.join(names)}"
+            for what, names in (("missing", missing), ("unexpected", extra))
+            if names
+        )
+        raise _fail(tensors_path, f"tensors do not match {json_path.name} ({listed})")
+    for name, shape in shapes.items():
+        array = tensors[name]
+        if array.shape != shape:
+            raise _fail(
+                tensors_path,
+                f"tensor {name} has shape {array.shape}, the architecture in {json_path.name} "
+                f"needs {shape}",
+            )
+        if not np.issubdtype(array.dtype, np.floating) or not np.isfinite(array).all():
+            raise _fail(tensors_path, f"tensor {name} is not finite floating point")
+    if (tensors["obs_var"] < 0).any():
+        raise _fail(tensors_path, "tensor obs_var has negative variances")
+
+
+def _layer_names(n_hidden: int) -> list[str]:
+    """The tensor-name prefixes of the actor's layers: ``pi.0`` ... then ``action``."""
+    return [f"pi.{i}" for i in range(n_hidden)] + ["action"]
+
+
+def _is_number(value: object) -> bool:
+    """A finite JSON number (not a bool)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _is_positive_int(value: object) -> bool:
+    """An integer > 0 (not a bool)."""
+    return isinstance(value, int) and not isinstance(value, bool) and value > 0
+
+
+def _is_sha256(value: object) -> bool:
+    """A hex sha256 digest, as ``hashlib`` writes it."""
+    return isinstance(value, str) and re.fullmatch("[0-9a-f]{64}", value) is not None
+
+
+_MISSING = object()
+# The fields of a version-1 JSON after format and format_version: (keys, check, what it must be).
+_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
+    (
+        ("architecture", "hidden_sizes"),
+        lambda v: isinstance(v, list) and all(_is_positive_int(size) for size in v),
+        "a list of positive integers",
+    ),
+    (("architecture", "activation"), lambda v: v == ACTIVATION, repr(ACTIVATION)),
+    (("architecture", "obs_dim"), _is_positive_int, "an integer > 0"),
+    (("architecture", "act_dim"), lambda v: v == ACTION_SIZE, str(ACTION_SIZE)),
+    (("obs_normalization", "clip_obs"), lambda v: _is_number(v) and v > 0, "a number > 0"),
+    (("obs_normalization", "epsilon"), lambda v: _is_number(v) and v >= 0, "a number >= 0"),
+    (("tensors", "sha256"), _is_sha256, "64 hex digits"),
+    (("tensors", "size"), _is_positive_int, "an integer > 0"),
+    (("ablation",), lambda v: isinstance(v, str), "a string"),
+    (("robot",), lambda v: v is None or isinstance(v, str), "a string or null"),
+)
+
+
+# --- listing ------------------------------------------------------------------------------------
+
+
+def list_policies(folder: str | os.PathLike[str]) -> list[Path]:
+    """The policy ``.json`` files in ``folder`` (not recursive), sorted; [] if it does not exist.
+
+    A ``.json`` counts when a ``.safetensors`` of the same stem sits beside it or when it declares
+    ``"format": "dressbench-policy"``, so a broken policy is still listed (and fails clearly on
+    load) while unrelated JSON files are ignored. Tensors are never read.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    candidates = folder.glob("*" + JSON_SUFFIX)
+    return sorted(path for path in candidates if path.is_file() and _looks_like_policy(path))
+
+
+def _looks_like_policy(json_path: Path) -> bool:
+    """Whether a JSON file is (meant to be) one half of a policy pair."""
+    if policy_paths(json_path)[0].is_file():
+        return True
+    try:
+        document = json.loads(json_path.read_bytes())
+    except (OSError, ValueError):
+        return False
+    return isinstance(document, dict) and document.get("format") == FORMAT

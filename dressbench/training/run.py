@@ -1,0 +1,187 @@
+"""One training run on disk: build or resume the learner, checkpoint it, export the policy."""
+
+from __future__ import annotations
+
+import os
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList
+from stable_baselines3.common.logger import configure
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
+from tqdm import tqdm
+
+from .train import CHECKPOINT, TrainConfig, config_dict, git_commit, versions, write_json_atomic
+
+
+class TrainingRun:
+    """The files of one run in ``out/NAME/`` and the steps that produce them."""
+
+    def __init__(self, config: TrainConfig) -> None:
+        self.config = config
+        self.folder = Path(config.out) / config.run_name
+        self.model_path = self.folder / f"{CHECKPOINT}.zip"
+        self.norm_path = self.folder / f"{CHECKPOINT}-normalization.pkl"
+        self.state_path = self.folder / "checkpoint.json"
+
+    # ----------------------------------------------------------------------------- run
+    def run(self, progress: bool = True) -> Path:
+        """Train to ``timesteps`` (resuming a checkpoint if there is one) and export."""
+        self.folder.mkdir(parents=True, exist_ok=True)
+        write_json_atomic(self.folder / "run.json", {"config": config_dict(self.config),
+                                                     "versions": versions()})  # fmt: skip
+        venv = self._envs()
+        try:
+            model, done = self._model(venv)
+            remaining = max(self.config.timesteps - done, 0)
+            if remaining:
+                model.set_logger(configure(str(self.folder / "logs"), ["csv", "tensorboard"]))
+                callbacks = CallbackList([_Checkpoints(self), _Progress(done, self.config.timesteps,
+                                                                         progress)])  # fmt: skip
+                model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
+                self.save_checkpoint(model)
+            return self.export(model)
+        finally:
+            venv.close()
+
+    def _envs(self) -> VecNormalize:
+        cfg = self.config
+        factories = [_EnvFactory(cfg, rank) for rank in range(cfg.n_envs)]
+        venv: VecEnv
+        if cfg.n_envs == 1:
+            venv = DummyVecEnv(factories)
+        else:
+            venv = SubprocVecEnv(factories, start_method="spawn")
+        venv.seed(cfg.seed)
+        if self.norm_path.exists():
+            return VecNormalize.load(str(self.norm_path), venv)
+        return VecNormalize(venv, norm_obs=True, norm_reward=True, gamma=cfg.gamma)
+
+    def _model(self, venv: VecNormalize):
+        """A fresh learner, or the checkpointed one and how many steps it has done."""
+        algorithm = _algorithm(self.config.algo)
+        if self.model_path.exists():
+            model = algorithm.load(str(self.model_path), env=venv, device="cpu")
+            return model, int(model.num_timesteps)
+        cfg = self.config
+        kwargs = {
+            "n_steps": max(cfg.samples_per_update // cfg.n_envs, 64),
+            "gamma": cfg.gamma,
+            "gae_lambda": cfg.gae_lambda,
+            "seed": cfg.seed,
+            "device": "cpu",
+            "policy_kwargs": {
+                "net_arch": {"pi": [64, 64], "vf": [64, 64]},
+                "activation_fn": torch.nn.Tanh,
+            },
+        }
+        if cfg.algo == "trpo":
+            kwargs |= {"target_kl": cfg.target_kl, "batch_size": 128}
+        else:
+            kwargs |= {"batch_size": 256, "n_epochs": 10}
+        return algorithm("MlpPolicy", venv, **kwargs), 0
+
+    # ----------------------------------------------------------------------------- files
+    def save_checkpoint(self, model) -> None:
+        """Model, normalisation, then the marker: a kill at any point leaves a usable set."""
+        tmp_model = self.folder / f"{CHECKPOINT}.tmp.zip"
+        model.save(str(tmp_model))
+        tmp_norm = self.folder / f"{CHECKPOINT}-normalization.tmp.pkl"
+        model.get_vec_normalize_env().save(str(tmp_norm))
+        os.replace(tmp_norm, self.norm_path)
+        os.replace(tmp_model, self.model_path)
+        write_json_atomic(self.state_path, {"timesteps": int(model.num_timesteps),
+                                            "seed": self.config.seed})  # fmt: skip
+
+    def export(self, model) -> Path:
+        """The finished policy as safetensors + JSON in the policies folder."""
+        from .policy_file import save_policy
+
+        cfg = self.config
+        Path(cfg.policies).mkdir(parents=True, exist_ok=True)
+        metadata = {
+            "name": cfg.run_name,
+            "robot": cfg.robot,
+            "ablation": cfg.ablation,
+            "algorithm": cfg.algo,
+            "seed": cfg.seed,
+            "steps": int(model.num_timesteps),
+            "versions": versions(),
+            "git_commit": git_commit(),
+            "config": config_dict(cfg),
+        }
+        norm = model.get_vec_normalize_env()
+        _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
+                                   clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip
+        return Path(json_path)
+
+
+class _EnvFactory:
+    """Builds one training env in a worker process (picklable, so it works with spawn)."""
+
+    def __init__(self, config: TrainConfig, rank: int) -> None:
+        self.config = config
+        self.rank = rank
+
+    def __call__(self):
+        from stable_baselines3.common.monitor import Monitor
+
+        from .. import make_human_env
+
+        cfg = self.config
+        env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
+                             horizon=cfg.horizon)  # fmt: skip
+        return Monitor(env, info_keywords=("arm_progress", "max_deformation"))
+
+
+def _algorithm(name: str):
+    if name == "trpo":
+        from sb3_contrib import TRPO
+
+        return TRPO
+    return PPO
+
+
+class _Checkpoints(BaseCallback):
+    """Save a checkpoint every ``checkpoint_every`` environment steps."""
+
+    def __init__(self, run: TrainingRun) -> None:
+        super().__init__()
+        self.run = run
+        self.last = 0
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps - self.last >= self.run.config.checkpoint_every:
+            self.run.save_checkpoint(self.model)
+            self.last = self.num_timesteps
+        return True
+
+
+class _Progress(BaseCallback):
+    """A progress bar with steps, rate, ETA and the recent mean final arm progress."""
+
+    def __init__(self, done: int, total: int, enabled: bool) -> None:
+        super().__init__()
+        self.done, self.total, self.enabled = done, total, enabled
+        self.recent: deque[float] = deque(maxlen=20)
+
+    def _on_training_start(self) -> None:
+        self.bar = tqdm(total=self.total, initial=self.done, unit="step", disable=not self.enabled,
+                        dynamic_ncols=True, desc="training", mininterval=2.0)  # fmt: skip
+
+    def _on_step(self) -> bool:
+        self.bar.update(self.training_env.num_envs)
+        for info in self.locals.get("infos", []):
+            if "episode" in info:
+                self.recent.append(float(info["episode"]["arm_progress"]))
+        if self.recent:
+            mean = float(np.mean(self.recent))
+            self.bar.set_postfix(arm_progress=f"{mean:.3f}", refresh=False)
+            self.logger.record("rollout/final_arm_progress", mean)
+        return True
+
+    def _on_training_end(self) -> None:
+        self.bar.close()
