@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from .single_agent import HumanEnv
 
 __version__ = "0.1.0"
-__all__ = ["make_env", "make_human_env"]
+__all__ = ["evaluate", "leaderboard", "load_policy", "make_env", "make_human_env", "train"]
 
 
 def make_env(
@@ -54,3 +54,31 @@ def _robot(robot: str | Any) -> Any:
 
         return load_robot(robot)
     return robot
+
+
+def train(robot: str = "fixed", **options: Any):
+    """Train a human model for a robot strategy; ``options`` are ``TrainConfig`` fields."""
+    from .training import train as train_policy
+
+    return train_policy(robot=robot, **options)
+
+
+def evaluate(robot: str, human: str, **options: Any):
+    """Score a robot strategy with a human over seeded rollouts (see dressbench.evaluation)."""
+    from .evaluation import evaluate as run_evaluation
+
+    return run_evaluation(robot, human, **options)
+
+
+def leaderboard(**options: Any):
+    """Every robot strategy against the humans meant for it (see dressbench.evaluation)."""
+    from .evaluation import leaderboard as run_leaderboard
+
+    return run_leaderboard(**options)
+
+
+def load_policy(path: str):
+    """A trained human model from its safetensors + JSON files, without unpickling."""
+    from .training.policy_file import load_policy as load
+
+    return load(path)

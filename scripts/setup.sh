@@ -14,5 +14,5 @@ PYTHON=${PYTHON:-python3}
 # The example third-party plugin package (plugins/), installed as a user would install theirs
 .venv/bin/python -m pip install -q -e plugins/dressbench-arc
 if [ "${1:-}" != "--no-run" ]; then
-    .venv/bin/dressbench bench --quick
+    .venv/bin/dressbench evaluate leaderboard --episodes 5 --out results/quick
 fi

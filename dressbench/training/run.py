@@ -30,6 +30,7 @@ class TrainingRun:
     # ----------------------------------------------------------------------------- run
     def run(self, progress: bool = True) -> Path:
         """Train to ``timesteps`` (resuming a checkpoint if there is one) and export."""
+        torch.set_num_threads(1)  # a second thread does not speed these small updates up
         self.folder.mkdir(parents=True, exist_ok=True)
         write_json_atomic(self.folder / "run.json", {"config": config_dict(self.config),
                                                      "versions": versions()})  # fmt: skip

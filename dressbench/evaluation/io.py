@@ -1,0 +1,72 @@
+"""Atomic file writes: a temp file in the target's folder, flushed, then ``os.replace``.
+
+A reader (or a resumed run) therefore sees either the previous file or the new one, never a
+half-written one, even if the process dies mid-write.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import tempfile
+from dataclasses import asdict, is_dataclass
+from io import BytesIO
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+
+def write_bytes(path: str | os.PathLike, data: bytes) -> None:
+    """Replace ``path`` by ``data`` atomically; on error the old file stays, no temp remains."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as file:
+            file.write(data)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_text(path: str | os.PathLike, text: str) -> None:
+    """Replace ``path`` by UTF-8 ``text`` atomically."""
+    write_bytes(path, text.encode("utf-8"))
+
+
+def write_csv(path: str | os.PathLike, table: pd.DataFrame) -> None:
+    """Replace ``path`` by ``table`` as CSV (no index) atomically."""
+    write_text(path, table.to_csv(index=False))
+
+
+def write_json(path: str | os.PathLike, data: Any) -> None:
+    """Replace ``path`` by ``data`` as indented JSON atomically (dataclasses as dicts)."""
+    write_text(path, json.dumps(data, indent=2, default=_jsonable) + "\n")
+
+
+def write_png(path: str | os.PathLike, figure: Figure) -> None:
+    """Render ``figure`` to PNG in memory and replace ``path`` by it atomically."""
+    buffer = BytesIO()
+    figure.savefig(buffer, format="png", dpi=120)
+    write_bytes(path, buffer.getvalue())
+
+
+def _jsonable(value: Any) -> Any:
+    """What JSON cannot encode natively: dataclasses as dicts, anything else by ``repr``."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return asdict(value)
+    if hasattr(value, "tolist"):  # numpy arrays and scalars
+        return value.tolist()
+    return repr(value)
+
+
+def slug(name: str) -> str:
+    """A plugin name made safe as a file name."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)

@@ -1,0 +1,70 @@
+"""The paper's figures: metric curves over an episode, and the final scores per cell.
+
+Figures are built with ``matplotlib.figure.Figure`` (Agg when saved): no pyplot global state,
+no display, safe in worker processes and notebooks alike.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+from matplotlib.figure import Figure
+
+from .rollouts import SUCCESS_DEPTH
+
+STEP_SECONDS = 0.04  # one policy step: 4 simulation steps of 0.01 s
+
+
+def curves_figure(curves: pd.DataFrame, robot: str, success_depth: float = SUCCESS_DEPTH) -> Figure:
+    """Mean ± std of arm progress and of max deformation over the steps, one line per human."""
+    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    progress_axes, deformation_axes = figure.subplots(1, 2)
+    for human, cell in curves[curves["robot"] == robot].groupby("human", sort=False):
+        episodes = int(cell["episodes"].iloc[0])
+        for axes, metric in (
+            (progress_axes, "arm_progress"),
+            (deformation_axes, "max_deformation"),
+        ):
+            mean, std = cell[f"{metric}_mean"], cell[f"{metric}_std"].fillna(0.0)
+            (line,) = axes.plot(cell["step"], mean, label=f"{human} (n={episodes})")
+            axes.fill_between(
+                cell["step"], mean - std, mean + std, color=line.get_color(), alpha=0.2
+            )
+    progress_axes.axhline(success_depth, color="0.4", linestyle="--", linewidth=1, label="success")
+    progress_axes.set(title="arm progress", ylabel="depth into the sleeve (m)")
+    deformation_axes.set(title="max deformation", ylabel="running max of triangle area ratio")
+    for axes in (progress_axes, deformation_axes):
+        axes.set_xlabel(f"policy step ({STEP_SECONDS} s)")
+        axes.grid(alpha=0.3)
+    progress_axes.legend(fontsize="small")
+    figure.suptitle(f"robot strategy: {robot} (mean ± std over episodes)")
+    return figure
+
+
+def scores_figure(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> Figure:
+    """Bars of final arm progress and max deformation per cell, with std error bars."""
+    figure = Figure(figsize=(max(6.0, 1.1 * len(board) + 3.0), 4.8), layout="constrained")
+    progress_axes, deformation_axes = figure.subplots(1, 2)
+    labels = [
+        f"{robot} / {human}" for robot, human in zip(board["robot"], board["human"], strict=True)
+    ]
+    robots = list(dict.fromkeys(board["robot"]))
+    colors = [f"C{robots.index(robot) % 10}" for robot in board["robot"]]
+    positions = range(len(board))
+    for axes, metric, title in (
+        (progress_axes, "final_arm_progress", "final arm progress (m)"),
+        (deformation_axes, "max_deformation", "max deformation (area ratio)"),
+    ):
+        axes.bar(
+            positions,
+            board[f"{metric}_mean"],
+            yerr=board[f"{metric}_std"].fillna(0.0),
+            color=colors,
+            capsize=4,
+        )
+        axes.set_xticks(list(positions), labels, fontsize="small", rotation=45, ha="right")
+        axes.set_title(title)
+        axes.grid(axis="y", alpha=0.3)
+    progress_axes.axhline(success_depth, color="0.4", linestyle="--", linewidth=1, label="success")
+    progress_axes.legend(fontsize="small")
+    figure.suptitle("final scores per leaderboard cell (mean ± std over episodes)")
+    return figure

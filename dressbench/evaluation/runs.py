@@ -1,0 +1,150 @@
+"""``evaluate`` and ``leaderboard``: seeded, parallel, resumable evaluations written to a folder."""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Iterable, Sequence
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from tqdm.auto import tqdm
+
+from .cells import Cell, leaderboard_cells, make_cell
+from .io import write_csv
+from .meta import git_commit, versions
+from .report import success_definition, write_summary
+from .rollouts import SUCCESS_DEPTH, EpisodeRecord
+from .schema import EPISODE_COLUMNS
+from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
+from .store import load_record, save_record
+from .workers import Task, run_tasks
+
+
+def evaluate(
+    robot: str,
+    human: str,
+    episodes: int = 100,
+    seed: int = 0,
+    workers: int | None = None,
+    out: str | os.PathLike = "results",
+    *,
+    success_depth: float = SUCCESS_DEPTH,
+    progress: bool = True,
+    **options: Any,
+) -> pd.DataFrame:
+    """Score ``robot`` with ``human`` over seeded episodes; write the results to ``out``.
+
+    Returns the episodes table (one row per rollout, as in episodes.csv). ``options`` go to
+    ``make_human_env`` (horizon, gown_vertices, device, ...); the ablation is the human's.
+    Episodes already in ``out`` for the same cell, settings and seed are not run again.
+    """
+    cell = make_cell(robot, human, **options)
+    episodes_table, _ = _evaluate_cells(
+        [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options
+    )
+    return episodes_table
+
+
+def leaderboard(
+    episodes: int = 100,
+    seed: int = 0,
+    workers: int | None = None,
+    out: str | os.PathLike = "results",
+    humans: Iterable[str] | None = None,
+    robots: Iterable[str] | None = None,
+    *,
+    success_depth: float = SUCCESS_DEPTH,
+    progress: bool = True,
+    **options: Any,
+) -> pd.DataFrame:
+    """Evaluate every robot strategy against the humans meant for it; write the combined files.
+
+    The cells are every ok robot plugin × every ok human plugin trained for it or generic
+    (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
+    restrict the names. Returns the leaderboard table (as in leaderboard.csv).
+    """
+    cells = leaderboard_cells(robots, humans, **options)
+    _, board = _evaluate_cells(
+        cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options
+    )
+    return board
+
+
+def _evaluate_cells(
+    cells: Sequence[Cell],
+    episodes: int,
+    seed: int,
+    workers: int | None,
+    out: Path,
+    success_depth: float,
+    progress: bool,
+    command: str,
+    options: dict[str, Any],
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Run what is missing of ``episodes`` per cell, saving each as it finishes; then summarize.
+
+    Returns the episodes table and the leaderboard table.
+    """
+    if episodes < 1:
+        raise ValueError(f"episodes must be at least 1, got {episodes}")
+    started, clock = datetime.now(timezone.utc), time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    tasks = [
+        Task(cell, seed, episode, success_depth) for cell in cells for episode in range(episodes)
+    ]
+    done = {task: record for task in tasks if (record := load_record(out, task)) is not None}
+    pending = [task for task in tasks if task not in done]
+    workers = workers or os.cpu_count() or 1
+    with tqdm(
+        total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
+    ) as bar:
+        for task, record in run_tasks(pending, workers):
+            save_record(out, task, record)
+            done[task] = record
+            write_csv(out / "episodes.csv", _episodes_table(tasks, done))
+            bar.update()
+    elapsed = time.perf_counter() - clock
+    table = _episodes_table(tasks, done)
+    write_csv(out / "episodes.csv", table)
+    curves = curve_table(
+        (
+            {**cell.columns, "seed": seed},
+            [done[Task(cell, seed, episode, success_depth)] for episode in range(episodes)],
+        )
+        for cell in cells
+    )
+    board = leaderboard_table(table, seed)
+    meta = {
+        "command": command,
+        "started": started.isoformat(timespec="seconds"),
+        "elapsed_seconds": round(elapsed, 3),
+        "episodes_run": len(pending),
+        "episodes_per_cell": episodes,
+        "seed": seed,
+        "episode_seeds": "numpy.random.SeedSequence(seed).spawn(n)[episode].generate_state(1)[0]",
+        "workers": workers,
+        "options": options,
+        "success": success_definition(success_depth),
+        "success_depth": success_depth,
+        "confidence_interval": f"{CONFIDENCE:.0%} percentile bootstrap of the mean, "
+        f"{RESAMPLES} resamples, numpy default_rng(seed)",
+        "cells": [cell.columns for cell in cells],
+        "configs": {cell.columns["config_id"]: cell.config() for cell in cells},
+        "versions": versions(),
+        "git_commit": git_commit(),
+    }
+    write_summary(out, curves, board, meta, success_depth)
+    return table, board
+
+
+def _episodes_table(tasks: Sequence[Task], done: dict[Task, EpisodeRecord]) -> pd.DataFrame:
+    """The finished tasks' rows, in task order (cell, then episode) whatever order they ran in."""
+    rows = [
+        {**task.cell.columns, "seed": task.seed, "episode": task.episode, **done[task].scores()}
+        for task in tasks
+        if task in done
+    ]
+    return pd.DataFrame(rows, columns=EPISODE_COLUMNS)

@@ -1,0 +1,82 @@
+"""Summaries of many episodes: bootstrap confidence intervals, the leaderboard and the curves."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .rollouts import EpisodeRecord
+from .schema import CURVE_COLUMNS, KEY_COLUMNS, LEADERBOARD_COLUMNS
+
+RESAMPLES = 10_000
+CONFIDENCE = 0.95
+
+
+def bootstrap_ci(
+    values: Sequence[float] | np.ndarray,
+    seed: int = 0,
+    resamples: int = RESAMPLES,
+    confidence: float = CONFIDENCE,
+) -> tuple[float, float]:
+    """The percentile bootstrap confidence interval of the mean, reproducible from ``seed``.
+
+    Resample the values with replacement ``resamples`` times, take each resample's mean, and
+    return the central ``confidence`` quantiles of those means. They are clipped to the data's
+    range, where every resample mean lies, so constant data gives exactly (value, value).
+    """
+    x = np.asarray(values, dtype=float)
+    if x.size == 0:
+        return float("nan"), float("nan")
+    rng = np.random.default_rng(seed)
+    means = x[rng.integers(0, x.size, (resamples, x.size))].mean(axis=1)
+    tail = 50.0 * (1.0 - confidence)
+    low, high = np.clip(np.percentile(means, [tail, 100.0 - tail]), x.min(), x.max())
+    return float(low), float(high)
+
+
+def leaderboard_table(episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
+    """One row per cell of an episodes table: mean, std, bootstrap CI of the final scores."""
+    rows = []
+    for key, group in episodes.groupby(KEY_COLUMNS, sort=False):
+        row: dict[str, Any] = dict(zip(KEY_COLUMNS, key, strict=True))
+        row["episodes"] = len(group)
+        for metric in ("final_arm_progress", "max_deformation"):
+            values = group[metric].astype(float)
+            low, high = bootstrap_ci(values, seed)
+            row |= {
+                f"{metric}_mean": values.mean(),
+                f"{metric}_std": values.std(),  # sample std (ddof 1); NaN for one episode
+                f"{metric}_ci_low": low,
+                f"{metric}_ci_high": high,
+            }
+        success = group["success"].astype(float)
+        row["success_rate"] = success.mean()
+        row["success_ci_low"], row["success_ci_high"] = bootstrap_ci(success, seed)
+        row["sim_failures"] = int(group["sim_failure"].sum())
+        rows.append(row)
+    return pd.DataFrame(rows, columns=LEADERBOARD_COLUMNS)
+
+
+def curve_table(cells: Iterable[tuple[Mapping[str, Any], Sequence[EpisodeRecord]]]) -> pd.DataFrame:
+    """Per cell and policy step: mean and sample std (NaN for one episode) over its episodes."""
+    parts = []
+    for key, records in cells:
+        progress = pd.DataFrame(np.stack([r.arm_progress for r in records]))
+        deformation = pd.DataFrame(np.stack([r.max_deformation_curve for r in records]))
+        part = pd.DataFrame(
+            {
+                "step": np.arange(1, progress.shape[1] + 1),
+                "episodes": len(records),
+                "arm_progress_mean": progress.mean().to_numpy(),
+                "arm_progress_std": progress.std().to_numpy(),
+                "max_deformation_mean": deformation.mean().to_numpy(),
+                "max_deformation_std": deformation.std().to_numpy(),
+            }
+        )
+        parts.append(part.assign(**{name: key[name] for name in KEY_COLUMNS}))
+    if not parts:
+        return pd.DataFrame(columns=CURVE_COLUMNS)
+    return pd.concat(parts, ignore_index=True)[CURVE_COLUMNS]

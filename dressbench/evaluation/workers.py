@@ -1,0 +1,55 @@
+"""Run episodes in this process or in a pool of worker processes, each keeping its env."""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+
+from .cells import Cell
+from .rollouts import SUCCESS_DEPTH, EpisodeRecord, Runner, episode_seed
+
+
+@dataclass(frozen=True)
+class Task:
+    """Episode ``episode`` of ``cell`` in an evaluation seeded ``seed``."""
+
+    cell: Cell
+    seed: int
+    episode: int
+    success_depth: float = SUCCESS_DEPTH
+
+    @property
+    def episode_seed(self) -> int:
+        """The seed the env and the human are reset with."""
+        return episode_seed(self.seed, self.episode)
+
+
+_runner: Runner | None = None  # this process's env: rebuilt only when the cell changes
+
+
+def run_task(task: Task) -> EpisodeRecord:
+    """Run one task here, reusing this process's env when the previous task had the same cell."""
+    global _runner
+    if _runner is None or _runner.cell != task.cell:
+        _runner = None  # free the old env before building the next
+        _runner = Runner(task.cell)
+    return _runner.run(task.episode_seed, task.success_depth)
+
+
+def run_tasks(tasks: Sequence[Task], workers: int) -> Iterator[tuple[Task, EpisodeRecord]]:
+    """Each task with its record, as they finish: in this process for one worker, else in a
+    "spawn" pool (fork is unsafe with Warp and DART threads); stopping early cancels the rest."""
+    if workers == 1:
+        for task in tasks:
+            yield task, run_task(task)
+        return
+    context = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(min(workers, len(tasks)), mp_context=context)
+    try:
+        futures = {pool.submit(run_task, task): task for task in tasks}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)

@@ -1,0 +1,111 @@
+"""Training a human model: a tiny run end to end, kill and resume, and broken policy files."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import asdict
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from dressbench import plugins
+from dressbench.evaluation import evaluate, leaderboard
+from dressbench.training import TrainConfig, load_policy, train
+
+TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}
+
+
+def tiny_config(tmp_path, **changes) -> TrainConfig:
+    options = TINY | {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
+    return TrainConfig(**(options | changes))
+
+
+@pytest.fixture
+def policies_on_path(tmp_path, monkeypatch):
+    """Make the registry look for trained models in this test's folder only."""
+    monkeypatch.setenv("DRESSBENCH_POLICIES", str(tmp_path / "policies"))
+    plugins.refresh()
+    yield
+    monkeypatch.delenv("DRESSBENCH_POLICIES")
+    plugins.refresh()
+
+
+def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, policies_on_path):
+    path = train(tiny_config(tmp_path, timesteps=256, name="tiny"), progress=False)
+    meta = json.loads(path.read_text())
+    assert meta["robot"] == "fixed" and meta["algorithm"] == "trpo" and meta["steps"] >= 256
+    assert meta["seed"] == 0 and "versions" in meta and "git_commit" in meta
+    logs = tmp_path / "runs" / "tiny" / "logs"
+    assert (logs / "progress.csv").exists()
+    assert any(f.name.startswith("events.out.tfevents") for f in logs.iterdir())
+
+    plugins.refresh()
+    assert plugins.human_plugins()["tiny"].ok
+    table = evaluate("fixed", "tiny", episodes=2, workers=1, out=str(tmp_path / "results"),
+                     gown_vertices=600, horizon=16)  # fmt: skip
+    assert list(table["human"]) == ["tiny", "tiny"]
+    assert np.isfinite(table["final_arm_progress"]).all()
+
+    board = leaderboard(episodes=1, workers=1, out=str(tmp_path / "board"), gown_vertices=600,
+                        horizon=8)  # fmt: skip
+    cells = set(zip(board["robot"], board["human"], strict=True))
+    assert ("fixed", "tiny") in cells and ("front_linear", "tiny") not in cells
+    assert {("side_linear", "scripted"), ("fixed", "passive")} <= cells
+
+
+def test_training_resumes_after_a_kill_and_loses_at_most_one_checkpoint(tmp_path):
+    config = tiny_config(tmp_path, timesteps=2048, checkpoint_every=128, name="killed")
+    code = (
+        "from dressbench.training import TrainConfig, train; import json, sys; "
+        "train(TrainConfig(**json.loads(sys.argv[1])), progress=False)"
+    )
+    worker = subprocess.Popen([sys.executable, "-c", code, json.dumps(asdict(config))])
+    marker = tmp_path / "runs" / "killed" / "checkpoint.json"
+    deadline = time.time() + 300
+    while not (marker.exists() and json.loads(marker.read_text())["timesteps"] >= 256):
+        assert worker.poll() is None, "training ended before it could be killed"
+        assert time.time() < deadline
+        time.sleep(0.2)
+    os.kill(worker.pid, signal.SIGKILL)
+    worker.wait()
+    saved = json.loads(marker.read_text())["timesteps"]
+    assert saved < 2048
+
+    path = train(config, progress=False)  # the same call again: it resumes
+    assert json.loads(path.read_text())["steps"] >= 2048
+    progress = pd.read_csv(tmp_path / "runs" / "killed" / "logs" / "progress.csv")
+    assert progress["time/total_timesteps"].min() > saved  # it went on from the checkpoint
+
+
+def test_a_malformed_policy_file_is_reported_by_name(tmp_path, policies_on_path):
+    folder = tmp_path / "policies"
+    folder.mkdir()
+    (folder / "broken.safetensors").write_bytes(b"not tensors")
+    (folder / "broken.json").write_text('{"format": "dressbench-policy", "format_version": 1')
+    plugins.refresh()
+    record = plugins.human_plugins()["broken"]
+    assert not record.ok and "broken.json" in record.error
+    with pytest.raises(plugins.BrokenPluginError, match="broken"):
+        plugins.load_human("broken")
+    with pytest.raises(ValueError, match="broken.json"):
+        load_policy(folder / "broken.json")
+
+
+@pytest.mark.slow
+def test_a_trained_human_dresses_better_than_passive_and_random(tmp_path, policies_on_path):
+    """Real learning on `fixed` (hours on 2 cores): N = DRESSBENCH_LEARN_STEPS, 300k default."""
+    steps = int(os.environ.get("DRESSBENCH_LEARN_STEPS", "300000"))
+    folders = {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
+    config = TrainConfig(robot="fixed", timesteps=steps, name="learner", **folders)
+    train(config, progress=False)
+    plugins.refresh()
+    scores = {}
+    for human in ("learner", "passive", "random"):
+        table = evaluate("fixed", human, episodes=20, seed=123, out=str(tmp_path / human))
+        scores[human] = table["final_arm_progress"].mean()
+    print(f"mean final arm progress after {steps} steps: {scores}")
+    assert scores["learner"] > max(scores["passive"], scores["random"])
