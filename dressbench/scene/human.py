@@ -253,7 +253,10 @@ class Human:
         self.skeleton.clearExternalForces()
         self.target = self.rest.copy()
         self._torque_action[:] = 0.0
-        self.world.setTime(0.0)
+        self.world.reset()
+        # a fresh detector: Bullet keeps contact manifolds between queries, which would let
+        # one episode's last contacts change the next episode's first step
+        self.world.setCollisionDetector(dart.collision.BulletCollisionDetector())
 
     @property
     def q(self) -> np.ndarray:
@@ -351,9 +354,11 @@ def _within_limits(inertial: np.ndarray, bias: np.ndarray, limit: np.ndarray) ->
     """Computed torque ``s * M acc + bias`` with the largest s in [0, 1] that respects the
     joint torque limits: scaling the whole PD acceleration keeps the joints decoupled, where
     clipping joints one by one made the light distal links unstable."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        room = (np.sign(inertial) * limit - bias) / inertial
-    scale = float(np.clip(np.min(np.where(np.isfinite(room), room, np.inf)), 0.0, 1.0))
+    room = np.divide(
+        np.sign(inertial) * limit - bias, inertial, out=np.full_like(inertial, np.inf),
+        where=inertial != 0.0,
+    )  # fmt: skip
+    scale = float(np.clip(np.min(room, initial=1.0), 0.0, 1.0))
     return np.clip(scale * inertial + bias, -limit, limit)
 
 

@@ -81,7 +81,7 @@ class Scene:
         self.hoop = Hoop(
             self.human,
             rings=[g.positions[g.feature_loop]],
-            bars=[g.positions[line] for line in lines],
+            bars=[g.positions[line[[0, -1]]] for line in lines],  # the held lines are straight
         )
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
