@@ -101,8 +101,8 @@ class Scripted:
                 return _unit(below - tip), False  # under the way in, then up into it
             return _unit(entry - tip), False
         task = None if self.ablation == "no_task" else _unit(obs[-3:])
-        if along > 0.0 and task is not None:
-            return task, True  # through the opening: the task vector is the way on
+        if along > 0.0 and task is not None and task @ axis > 0.5:
+            return task, True  # through the opening: the task vector leads on
         return axis, True
 
     def _gain(self, obs: np.ndarray) -> float:
