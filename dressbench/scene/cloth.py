@@ -36,6 +36,7 @@ class ClothConfig:
     stretch_compliance: float = 1e-7  # m/N, XPBD compliance of mesh edges (near inextensible)
     bend_compliance: float = 0.5  # m/N, of the cross edges that resist folding (soft)
     bend_iterations: int = 3  # bending is soft: it converges in the first few iterations
+    contact_every: int = 2  # tethers and collisions every this many iterations, and the last
     tether_slack: float = 0.02  # tethers allow this fraction beyond the rest geodesic length
     thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
     friction: float = 0.5  # Coulomb coefficient between cloth and skin
@@ -566,31 +567,32 @@ class Cloth:
             )
             for cs in self.constraint_sets:
                 wp.launch(_zero_float, cs.size, [cs.lam], device=d)
+            stretch, bend = self.constraint_sets
             for it in range(cfg.iterations):
-                stretch, bend = self.constraint_sets
                 self._solve(stretch)
                 if it < cfg.bend_iterations:
                     self._solve(bend)
-                wp.launch(
-                    _solve_tethers,
-                    n,
-                    [self.x, self.inv_mass, self.anchor, self.tether_length],
-                    device=d,
-                )
-                wp.launch(
-                    _collide,
-                    n,
-                    [
-                        self.x,
-                        self.inv_mass,
-                        self.mask,
-                        *caps,
-                        cfg.thickness,
-                        self.contact_cap,
-                        self.contact_push,
-                    ],
-                    device=d,
-                )
+                if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one
+                    wp.launch(
+                        _solve_tethers,
+                        n,
+                        [self.x, self.inv_mass, self.anchor, self.tether_length],
+                        device=d,
+                    )
+                    wp.launch(
+                        _collide,
+                        n,
+                        [
+                            self.x,
+                            self.inv_mass,
+                            self.mask,
+                            *caps,
+                            cfg.thickness,
+                            self.contact_cap,
+                            self.contact_push,
+                        ],
+                        device=d,
+                    )
             wp.launch(
                 _finish,
                 n,

@@ -33,6 +33,7 @@ class Hoop:
                 _add_capsule(body, a, b, radius)
         self.skeleton.setMobile(False)
         self._joint = joint
+        self._body = body
         human.world.addSkeleton(self.skeleton)
         self._body_of_shape = {
             human_body.getShapeNode(k).getName(): i
@@ -51,7 +52,10 @@ class Hoop:
     def contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The last DART step's hoop contacts: human body index, point, force on the body."""
         bodies, points, forces = [], [], []
-        for c in self._world.getLastCollisionResult().getContacts():
+        result = self._world.getLastCollisionResult()
+        if not result.inCollision(self._body):  # the common case, without a Python loop
+            return np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3))
+        for c in result.getContacts():
             names = (
                 c.collisionObject1.getShapeFrame().getName(),
                 c.collisionObject2.getShapeFrame().getName(),

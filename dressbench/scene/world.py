@@ -101,6 +101,7 @@ class Scene:
         self.cloth.set_gripper(self.gripper_pose, self.gripper_pose)
         self.hoop.set_pose(self.gripper_pose)
         self._transforms = self.human.body_transforms()
+        self._capsules = self.human.capsules(self._transforms)
         self._body_forces = np.zeros((len(self.human.body_names), 3))
         self._body_torques = np.zeros_like(self._body_forces)
         self.cloth.clear_haptics()
@@ -141,12 +142,13 @@ class Scene:
 
     def _frame(self, gripper_prev: np.ndarray, gripper: np.ndarray) -> None:
         human = self.human
-        capsules_prev = human.capsules(self._transforms)
+        capsules_prev = self._capsules
         self.hoop.set_pose(gripper)
         human.step(self._body_forces, self._body_torques)
         T = human.body_transforms()
         self._transforms = T
-        self.cloth.set_body(capsules_prev, human.capsules(T), T[:, :3, 3], human.sensors(T))
+        self._capsules = human.capsules(T)
+        self.cloth.set_body(capsules_prev, self._capsules, T[:, :3, 3], human.sensors(T))
         self.cloth.set_gripper(gripper_prev, gripper)
         self.cloth.step()
         self._body_forces, self._body_torques = self.cloth.body_wrenches()
