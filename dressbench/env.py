@@ -90,6 +90,12 @@ class DressingEnv(ParallelEnv):
         result = self.scene.step(human_action, pose)
         self._t += 1
         truncated = self._t >= self.config.horizon
+        if not result.sim_failure:
+            self._gripper_force = self._force_on_gripper()
+            state = measure(self.scene)
+            observations = self._observe(state)
+            if not all(np.isfinite(o).all() for o in observations.values()):
+                result = self.scene.fail("non-finite observation")  # never hand a learner inf
         if result.sim_failure:
             reward = FAILURE_STEP_REWARD * (self.config.horizon - self._t + 1)
             human_info = {
@@ -101,12 +107,10 @@ class DressingEnv(ParallelEnv):
                 "clipped_actions": human_clipped,
             }
         else:
-            state = measure(self.scene)
             self._max_deformation = max(self._max_deformation, state.max_area_ratio)
-            self._gripper_force = self._force_on_gripper()
             terms = self.reward_terms(state)
             reward = float(sum(terms.values()))
-            self._obs = self._observe(state)
+            self._obs = observations
             human_info = self._human_info(state, human_clipped) | {"reward_terms": terms}
         terminated = result.sim_failure
         rewards = {ROBOT: reward, HUMAN: reward}

@@ -159,6 +159,11 @@ def test_a_diverging_cloth_ends_with_a_failure_flag_not_an_exception(scene):
     assert info.sim_failure and "non-finite" in info.reason
 
     scene.reset(grip)
+    scene.human.skeleton.setVelocities(np.full(22, 1e6))  # finite, but no body moves so
+    info = scene.step(np.zeros(11), grip)
+    assert info.sim_failure and "joint speed" in info.reason
+
+    scene.reset(grip)
     assert not scene.step(np.zeros(11), grip).sim_failure
 
 

@@ -36,6 +36,7 @@ class ClothConfig:
     stretch_compliance: float = 1e-7  # m/N, XPBD compliance of mesh edges (near inextensible)
     bend_compliance: float = 0.5  # m/N, of the cross edges that resist folding (soft)
     bend_iterations: int = 3  # bending is soft: it converges in the first few iterations
+    shear_iterations: int = 5  # the grid's diagonals: fabric shears easily
     contact_every: int = 2  # tethers and collisions every this many iterations, and the last
     tether_slack: float = 0.02  # tethers allow this fraction beyond the rest geodesic length
     thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
@@ -413,7 +414,10 @@ class Cloth:
         config: ClothConfig = ClothConfig(),
         dt: float = 0.01,
         device: str = "cpu",
+        shear_edges: np.ndarray | None = None,
     ) -> None:
+        """``shear_edges`` marks the edges (the grid's diagonals) that resist shear, not
+        stretch: a woven fabric shears easily, so they are solved in fewer iterations."""
         if len(capsule_radius) > MAX_CAPSULES:
             raise ValueError(f"at most {MAX_CAPSULES} capsules, got {len(capsule_radius)}")
         wp.init()
@@ -440,8 +444,11 @@ class Cloth:
         self.v = wp.zeros(self.n, dtype=wp.vec3, device=d)
         self.inv_mass = arr(inv_mass, float)
         self.mass = arr(masses, float)
+        shear = np.zeros(len(edges), bool) if shear_edges is None else np.asarray(shear_edges)
+        alpha = config.stretch_compliance / h**2
         self.constraint_sets = [
-            _DistanceSet(edges, edge_rest, config.stretch_compliance / h**2, arr, d),
+            _DistanceSet(edges[~shear], edge_rest[~shear], alpha, arr, d),
+            _DistanceSet(edges[shear], edge_rest[shear], alpha, arr, d),
             _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, arr, d),
         ]
         self.anchor = arr(tether_anchor, int)
@@ -567,9 +574,11 @@ class Cloth:
             )
             for cs in self.constraint_sets:
                 wp.launch(_zero_float, cs.size, [cs.lam], device=d)
-            stretch, bend = self.constraint_sets
+            stretch, shear, bend = self.constraint_sets
             for it in range(cfg.iterations):
                 self._solve(stretch)
+                if it < cfg.shear_iterations:
+                    self._solve(shear)
                 if it < cfg.bend_iterations:
                     self._solve(bend)
                 if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one

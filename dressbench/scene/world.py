@@ -35,6 +35,7 @@ class SceneConfig:
     settle_steps: int = 200  # simulation steps to let the held gown come to rest, once
     max_speed: float = 30.0  # m/s, a faster cloth vertex means the simulation ran away
     max_distance: float = 3.0  # m from the gripper, a farther cloth vertex means the same
+    max_joint_speed: float = 100.0  # rad/s, a faster human joint means the body blew up
     device: str = "cpu"
 
 
@@ -77,6 +78,7 @@ class Scene:
             config=config.cloth,
             dt=config.dt,
             device=config.device,
+            shear_edges=np.all(np.abs(np.diff(g.pattern[g.edges], axis=1)[:, 0]) > 1e-9, axis=1),
         )
         self.hoop = Hoop(
             self.human,
@@ -153,6 +155,12 @@ class Scene:
         self.cloth.step()
         self._body_forces, self._body_torques = self.cloth.body_wrenches()
 
+    def fail(self, reason: str) -> StepInfo:
+        """End the episode as failed from outside the physics (e.g. a non-finite reading)."""
+        self.failed = True
+        self.failure_reason = reason
+        return StepInfo(True, reason)
+
     def _add_hoop_contacts(
         self, gripper: np.ndarray, forces: np.ndarray, sides: np.ndarray
     ) -> None:
@@ -172,6 +180,9 @@ class Scene:
             return "non-finite cloth state"
         if not self.human.is_finite():
             return "non-finite human state"
+        joint_speed = float(np.abs(self.human.dq).max())
+        if joint_speed > self.config.max_joint_speed:
+            return f"joint speed {joint_speed:.3g} rad/s above {self.config.max_joint_speed} rad/s"
         speed, distance = self.cloth.extremes_since_clear()
         if speed > self.config.max_speed:
             return f"cloth speed {speed:.3g} m/s above {self.config.max_speed} m/s"

@@ -135,7 +135,7 @@ class _EnvFactory:
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
                              horizon=cfg.horizon)  # fmt: skip
-        return Monitor(env, info_keywords=("arm_progress", "max_deformation"))
+        return Monitor(env, info_keywords=("arm_progress", "max_deformation", "sim_failure"))
 
 
 def _algorithm(name: str):
@@ -167,7 +167,7 @@ class _Progress(BaseCallback):
     def __init__(self, done: int, total: int, enabled: bool) -> None:
         super().__init__()
         self.done, self.total, self.enabled = done, total, enabled
-        self.recent: deque[float] = deque(maxlen=20)
+        self.recent: deque[tuple[float, float]] = deque(maxlen=20)
 
     def _on_training_start(self) -> None:
         self.bar = tqdm(total=self.total, initial=self.done, unit="step", disable=not self.enabled,
@@ -177,11 +177,13 @@ class _Progress(BaseCallback):
         self.bar.update(self.training_env.num_envs)
         for info in self.locals.get("infos", []):
             if "episode" in info:
-                self.recent.append(float(info["episode"]["arm_progress"]))
+                episode = info["episode"]
+                self.recent.append((float(episode["arm_progress"]), float(episode["sim_failure"])))
         if self.recent:
-            mean = float(np.mean(self.recent))
-            self.bar.set_postfix(arm_progress=f"{mean:.3f}", refresh=False)
-            self.logger.record("rollout/final_arm_progress", mean)
+            progress, failures = np.mean(self.recent, axis=0)
+            self.bar.set_postfix(arm_progress=f"{progress:.3f}", refresh=False)
+            self.logger.record("rollout/final_arm_progress", progress)
+            self.logger.record("rollout/sim_failure_rate", failures)
         return True
 
     def _on_training_end(self) -> None:
