@@ -59,6 +59,9 @@ class Scripted:
     approach_distance = 0.12  # m before the opening where the hand lines up
     aligned = 0.025  # m off the axis that counts as lined up
     rise = 0.2  # m: the hand comes up into the way in from this far below it
+    # clavicle (2), shoulder elevation, middle, swing, elbow, wrist (2): arm raised forward
+    reach_posture = np.array([0.0, 0.0, 0.2, 0.0, 1.2, 1.0, 0.0, 0.0])
+    posture_gain = 0.1
 
     def __init__(self) -> None:
         from ..scene.human import Human  # the body model, used for kinematics only
@@ -82,7 +85,10 @@ class Scripted:
             wrist_step *= min(1.0, self.step_size / max(np.linalg.norm(wrist_step), 1e-9))
             jac = np.vstack([jac, wrist_jac[:, self._arm]])
             dx = np.concatenate([dx, wrist_step])
-        dq = jac.T @ np.linalg.solve(jac @ jac.T + self.damping**2 * np.eye(len(dx)), dx)
+        pinv = jac.T @ np.linalg.inv(jac @ jac.T + self.damping**2 * np.eye(len(dx)))
+        # in the task's null space, drift toward a reaching posture (elbow up, arm forward)
+        posture = self.posture_gain * (self.reach_posture - q[self._arm])
+        dq = pinv @ dx + (np.eye(len(self._arm)) - pinv @ jac) @ posture
         target = q.copy()
         target[self._arm] += dq
         return self._body.action_for(target)
