@@ -37,7 +37,7 @@ class Hoop:
         human.world.addSkeleton(self.skeleton)
         self._body_of_shape = {
             human_body.getShapeNode(k).getName(): i
-            for i, human_body in enumerate(human._bodies)
+            for i, human_body in enumerate(human.bodies)
             for k in range(human_body.getNumShapeNodes())
         }
         self._world = human.world

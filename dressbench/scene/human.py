@@ -259,6 +259,11 @@ class Human:
         self.world.setCollisionDetector(dart.collision.BulletCollisionDetector())
 
     @property
+    def bodies(self) -> list:
+        """The DART body nodes, in the order of ``body_names``."""
+        return list(self._bodies)
+
+    @property
     def q(self) -> np.ndarray:
         return np.asarray(self.skeleton.getPositions())
 
