@@ -18,7 +18,7 @@ from pettingzoo import ParallelEnv
 from .config import EnvConfig
 from .metrics import deformation_reward, geodesic_contact_reward, upright_reward
 from .observation import human_observation, observation_size
-from .plugins.robots import ROBOT_DT, ROBOT_MAX_SPEED
+from .plugins.protocols import ROBOT_DT, ROBOT_MAX_SPEED
 from .scene.world import Scene
 from .state import DressingState, measure
 

@@ -152,3 +152,12 @@ def test_unknown_options_are_refused():
         dressbench.make_env("fixed", gown_resolution=100)
     with pytest.raises(ValueError, match="ablation"):
         dressbench.make_env("fixed", ablation="no_arms")
+
+
+def test_rgb_array_rendering_returns_a_picture():
+    env = dressbench.make_env("fixed", render_mode="rgb_array", **SMALL)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.ndim == 3 and frame.shape[2] == 3 and frame.dtype == np.uint8
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 50  # not a blank image
+    assert dressbench.make_env("fixed", **SMALL).render() is None

@@ -14,6 +14,9 @@ import numpy as np
 
 ROBOT_API_VERSION = 1
 HUMAN_API_VERSION = 1
+ROBOT_MAX_SPEED = 0.1  # m/s: the gripper speed a robot action of 1 means
+ROBOT_DT = 0.04  # s: one policy step, over which a robot action is applied
+OBS_TIME = 6  # index of the time (s) in the robot's observation
 ROBOT_GROUP = "dressbench.robots"
 HUMAN_GROUP = "dressbench.humans"
 

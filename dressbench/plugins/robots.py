@@ -13,11 +13,24 @@ from typing import ClassVar
 
 import numpy as np
 
+from .protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED
+
+__all__ = [  # the protocol's constants are re-exported for strategy authors
+    "FRONT",
+    "LINEAR_DURATION",
+    "OBS_TIME",
+    "RIGHT_SHOULDER",
+    "ROBOT_DT",
+    "ROBOT_MAX_SPEED",
+    "FixedGown",
+    "FrontLinear",
+    "SideLinear",
+    "sample_box",
+    "yaw_quaternion",
+]
+
 RIGHT_SHOULDER = np.array([0.0, -0.19, 0.50])  # in the human frame, at rest
 FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # sleeve pointing away along +x
-ROBOT_MAX_SPEED = 0.1  # m/s, the gripper speed an action of 1 means
-ROBOT_DT = 0.04  # s, one policy step
-OBS_TIME = 6  # index of the time in the robot observation
 LINEAR_DURATION = 10.0  # s, the paper's linear motions
 
 
