@@ -72,7 +72,6 @@ class DressingEnv(ParallelEnv):
         self._gripper_velocity = np.zeros(3)
         self._gripper_force = np.zeros(3)
         self._momentum = self._cloth_momentum()
-        self._max_deformation = 0.0
         state = measure(self.scene)
         self._max_deformation = state.max_area_ratio
         self._obs = self._observe(state)

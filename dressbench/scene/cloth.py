@@ -138,21 +138,6 @@ def _zero_vec3(a: wp.array(dtype=wp.vec3)):
     a[wp.tid()] = wp.vec3(0.0)
 
 
-@wp.func
-def _distance_delta(
-    xi: wp.vec3, xj: wp.vec3, wi: float, wj: float, rest: float, alpha: float, lam: float
-) -> wp.vec4:
-    """XPBD distance constraint: returns (correction direction * dlambda, dlambda)."""
-    d = xi - xj
-    length = wp.length(d)
-    w = wi + wj
-    if length < 1.0e-9 or w + alpha == 0.0:
-        return wp.vec4(0.0)
-    n = d / length
-    dlam = (-(length - rest) - alpha * lam) / (w + alpha)
-    return wp.vec4(n[0] * dlam, n[1] * dlam, n[2] * dlam, dlam)
-
-
 @wp.kernel
 def _solve_distance(
     x: wp.array(dtype=wp.vec3),
@@ -163,14 +148,20 @@ def _solve_distance(
     lam: wp.array(dtype=float),
     offset: int,
 ):
+    """One XPBD distance constraint, in place."""
     k = wp.tid() + offset
     i = pairs[k][0]
     j = pairs[k][1]
     wi = inv_mass[i]
     wj = inv_mass[j]
-    r = _distance_delta(x[i], x[j], wi, wj, rest[k], alpha[k], lam[k])
-    corr = wp.vec3(r[0], r[1], r[2])
-    lam[k] = lam[k] + r[3]
+    d = x[i] - x[j]
+    length = wp.length(d)
+    w = wi + wj + alpha[k]
+    if length < 1.0e-9 or w == 0.0:
+        return
+    dlam = (-(length - rest[k]) - alpha[k] * lam[k]) / w
+    corr = d / length * dlam
+    lam[k] = lam[k] + dlam
     x[i] = x[i] + corr * wi
     x[j] = x[j] - corr * wj
 

@@ -198,10 +198,6 @@ class Scene:
     def cloth_positions(self) -> np.ndarray:
         return self.cloth.positions()
 
-    def feature_positions(self, positions: np.ndarray | None = None) -> np.ndarray:
-        x = self.cloth.positions() if positions is None else positions
-        return x[self.gown.feature_loop]
-
     def arm_chain(self) -> np.ndarray:
         return self.human.arm_chain(self._transforms)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from collections import deque
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +15,7 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
 from tqdm import tqdm
 
-from .train import CHECKPOINT, TrainConfig, config_dict, git_commit, versions, write_json_atomic
+from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
 
 class TrainingRun:
@@ -32,7 +33,7 @@ class TrainingRun:
         """Train to ``timesteps`` (resuming a checkpoint if there is one) and export."""
         torch.set_num_threads(1)  # a second thread does not speed these small updates up
         self.folder.mkdir(parents=True, exist_ok=True)
-        write_json_atomic(self.folder / "run.json", {"config": config_dict(self.config),
+        write_json_atomic(self.folder / "run.json", {"config": asdict(self.config),
                                                      "versions": versions()})  # fmt: skip
         venv = self._envs()
         try:
@@ -112,7 +113,7 @@ class TrainingRun:
             "steps": int(model.num_timesteps),
             "versions": versions(),
             "git_commit": git_commit(),
-            "config": config_dict(cfg),
+            "config": asdict(cfg),
         }
         norm = model.get_vec_normalize_env()
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
