@@ -7,7 +7,19 @@ import json
 import click
 
 
-@click.group()
+class _Commands(click.Group):
+    """Bad input (an unknown plugin, a broken policy file, a bad value) ends in one line."""
+
+    def invoke(self, ctx: click.Context):
+        from .plugins.registry import PluginError
+
+        try:
+            return super().invoke(ctx)
+        except (PluginError, ValueError) as error:
+            raise click.ClickException(str(error)) from error
+
+
+@click.group(cls=_Commands)
 @click.version_option(package_name="dressbench")
 def main() -> None:
     """dressbench: a benchmark suite for robot-assisted dressing."""
@@ -116,12 +128,18 @@ def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_ver
 @click.option("--gown-vertices", default=2000, show_default=True)
 @click.option("--horizon", default=400, show_default=True)
 @click.option("--out", default="results", show_default=True)
-def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out):
-    """Every robot strategy against the humans trained for it and the baselines."""
+@click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
+@click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
+def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out, robots, humans):
+    """Every robot strategy against the humans trained for it and the baselines.
+
+    Finished rollouts in OUT are reused, so a leaderboard can be built a few cells at a time.
+    """
     from .evaluation import leaderboard
 
     leaderboard(episodes=episodes, seed=seed, workers=workers or None, out=out,
-                gown_vertices=gown_vertices, horizon=horizon)  # fmt: skip
+                robots=robots or None, humans=humans or None, gown_vertices=gown_vertices,
+                horizon=horizon)  # fmt: skip
     click.echo(f"leaderboard in {out}/leaderboard.md, plots in {out}/*.png")
 
 

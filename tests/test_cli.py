@@ -2,6 +2,8 @@
 
 import json
 
+import pandas as pd
+
 from click.testing import CliRunner
 
 from dressbench.cli import main
@@ -25,3 +27,29 @@ def test_plugins_lists_every_plugin_with_its_package_and_status():
     for name in ("fixed", "front_linear", "side_linear", "passive", "random", "scripted"):
         line = next(row for row in result.output.splitlines() if f" {name} " in row)
         assert "dressbench" in line and line.rstrip().endswith("ok")
+
+
+def test_a_leaderboard_can_be_built_a_few_cells_at_a_time(tmp_path):
+    tiny = ["--episodes", "1", "--workers", "1", "--gown-vertices", "600", "--horizon", "4"]
+    out = ["--out", str(tmp_path)]
+    first = ["evaluate", "leaderboard", *tiny, *out, "--robot", "fixed", "--human", "passive"]
+    result = CliRunner().invoke(main, first)
+    assert result.exit_code == 0, result.output
+    board = pd.read_csv(tmp_path / "leaderboard.csv")
+    assert list(zip(board["robot"], board["human"], strict=True)) == [("fixed", "passive")]
+
+    more = ["evaluate", "leaderboard", *tiny, *out, "--robot", "fixed", "--human", "passive",
+            "--human", "random"]  # fmt: skip
+    result = CliRunner().invoke(main, more)
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 1  # reused one
+    assert set(pd.read_csv(tmp_path / "leaderboard.csv")["human"]) == {"passive", "random"}
+
+
+def test_an_unknown_strategy_is_a_one_line_error_not_a_traceback():
+    for command in (["evaluate", "--robot", "fixd", "--human", "passive"],
+                    ["evaluate", "leaderboard", "--robot", "fixd"]):  # fmt: skip
+        result = CliRunner().invoke(main, command)
+        assert result.exit_code == 1
+        assert result.output.startswith("Error: unknown robot") and "fixd" in result.output
+        assert len(result.output.strip().splitlines()) == 1

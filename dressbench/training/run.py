@@ -8,6 +8,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
@@ -15,6 +16,7 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
 from tqdm import tqdm
 
+from ..evaluation.io import write_csv
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
 
@@ -40,6 +42,7 @@ class TrainingRun:
             model, done = self._model(venv)
             remaining = max(self.config.timesteps - done, 0)
             if remaining:
+                self._archive_progress(done)
                 model.set_logger(configure(str(self.folder / "logs"), ["csv", "tensorboard"]))
                 callbacks = CallbackList([_Checkpoints(self), _Progress(done, self.config.timesteps,
                                                                          progress)])  # fmt: skip
@@ -87,6 +90,22 @@ class TrainingRun:
         return algorithm("MlpPolicy", venv, **kwargs), 0
 
     # ----------------------------------------------------------------------------- files
+    def _archive_progress(self, done: int) -> None:
+        """Move an earlier session's CSV log into progress-history.csv: SB3 rewrites the file.
+
+        Rows past the checkpoint are dropped, since those steps are trained again.
+        """
+        log = self.folder / "logs" / "progress.csv"
+        if not log.exists() or log.stat().st_size == 0:
+            return
+        rows = pd.read_csv(log)
+        rows = rows[rows["time/total_timesteps"] <= done]
+        history = log.with_name("progress-history.csv")
+        if history.exists():
+            rows = pd.concat([pd.read_csv(history), rows], ignore_index=True)
+        write_csv(history, rows)
+        log.unlink()
+
     def save_checkpoint(self, model) -> None:
         """Model, normalisation, then the marker: a kill at any point leaves a usable set."""
         tmp_model = self.folder / f"{CHECKPOINT}.tmp.zip"
