@@ -100,7 +100,7 @@ def test_vertex_count_is_close_to_target(gowns: dict[int, Gown], target: int) ->
 
 
 def test_feature_loop_has_a_sensible_count_at_default_resolution(gown: Gown) -> None:
-    assert 15 <= len(gown.feature_loop) <= 20
+    assert 15 <= len(gown.feature_loop) <= 25  # the paper's had 18, around a narrower opening
 
 
 def test_resolution_refines_monotonically(gowns: dict[int, Gown]) -> None:
@@ -457,7 +457,8 @@ def test_geodesic_grows_toward_the_far_end(any_gown: Gown) -> None:
     left_cuff = np.isclose(u, 0.5 * c.body_width + c.sleeve_length)
     hem = np.isclose(v, 0.0)
     assert g.geodesic[left_cuff].min() > 0.7
-    assert g.geodesic[hem].min() > 0.45
+    armpit_to_hem = c.body_length - c.sleeve_width  # no path along the cloth is shorter
+    assert g.geodesic[hem].min() >= armpit_to_hem / g.geodesic_scale - 1e-9
     far = int(np.argmax(g.geodesic))
     assert g.sheet[far] == BACK and np.isclose(u[far], 0.0) and np.isclose(v[far], 0.0)
     assert g.positions[far, 0] < -0.4 * c.body_width

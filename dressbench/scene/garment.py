@@ -31,7 +31,7 @@ class GownConfig:
     body_width: float = 0.60  # W: half the body circumference, m
     body_length: float = 0.80  # Hb: shoulder to hem, m
     sleeve_length: float = 0.25  # Ls: armhole to cuff, m
-    sleeve_width: float = 0.22  # Sw: half the sleeve circumference, m
+    sleeve_width: float = 0.30  # Sw: half the sleeve circumference, m (hospital gowns: wide)
     neck_half_width: float = 0.10  # half the width of the neck opening on the top edge, m
     areal_density: float = 0.13  # kg/m^2, cotton hospital gown
     layer_gap: float = 0.01  # initial front-to-back distance of the flat double layer, m
