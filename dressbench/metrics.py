@@ -140,9 +140,15 @@ def limb_containment(joints: ArrayLike, plane: FeaturePlane) -> Containment:
     )
 
 
-def progress_reward(joints: ArrayLike, plane: FeaturePlane) -> float:
-    """r_p: insertion depth l if the limb is contained, else minus the fingertip-centroid gap."""
-    containment = limb_containment(joints, plane)
+def progress_reward(
+    joints: ArrayLike, plane: FeaturePlane, containment: Containment | None = None
+) -> float:
+    """r_p: insertion depth l if the limb is contained, else minus the fingertip-centroid gap.
+
+    ``containment`` is ``limb_containment(joints, plane)``, if the caller already has it.
+    """
+    if containment is None:
+        containment = limb_containment(joints, plane)
     if containment.contained:
         return containment.depth
     return -float(np.linalg.norm(plane.centroid - np.asarray(joints, dtype=float)[0]))

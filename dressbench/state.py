@@ -33,9 +33,7 @@ class DressingState:
 
     @property
     def progress_reward(self) -> float:
-        if self.containment.contained:
-            return self.containment.depth
-        return -float(np.linalg.norm(self.plane.centroid - self.joints[0]))
+        return metrics.progress_reward(self.joints, self.plane, self.containment)
 
 
 def measure(scene: Scene) -> DressingState:

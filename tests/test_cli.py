@@ -3,7 +3,6 @@
 import json
 
 import pandas as pd
-
 from click.testing import CliRunner
 
 from dressbench.cli import main
