@@ -42,6 +42,9 @@ def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, p
     logs = tmp_path / "runs" / "tiny" / "logs"
     assert (logs / "progress.csv").exists()
     assert any(f.name.startswith("events.out.tfevents") for f in logs.iterdir())
+    curves = pd.read_csv(tmp_path / "runs" / "tiny" / "tiny-progress.csv")  # learning summary
+    assert curves["time/total_timesteps"].is_monotonic_increasing and len(curves) >= 2
+    assert (tmp_path / "runs" / "tiny" / "tiny-learning.png").stat().st_size > 0
 
     plugins.refresh()
     assert plugins.human_plugins()["tiny"].ok

@@ -17,6 +17,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 from tqdm import tqdm
 
 from ..evaluation.io import write_csv
+from .summary import write_learning_summary
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
 
@@ -48,6 +49,7 @@ class TrainingRun:
                                                                          progress)])  # fmt: skip
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
+                write_learning_summary(self.folder, self.folder)
             return self.export(model)
         finally:
             venv.close()

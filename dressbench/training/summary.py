@@ -1,0 +1,58 @@
+"""A run's learning curves: its CSV logs over every session, as a table and a figure.
+
+The figure (return, final arm progress and simulation failures against environment steps) is
+what a reader of ``results/training/`` looks at first; the table is what it was drawn from.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+from matplotlib.figure import Figure
+
+STEPS = "time/total_timesteps"
+PANELS = (  # column of progress.csv, title, axis label
+    ("rollout/ep_rew_mean", "episode return", "mean of the last 100 episodes"),
+    ("rollout/final_arm_progress", "final arm progress", "m, mean of recent episodes"),
+    ("rollout/sim_failure_rate", "simulation failures", "share of recent episodes"),
+)
+
+
+def learning_table(run_folder: str | Path) -> pd.DataFrame:
+    """Every logged update of a run, earlier sessions (``progress-history.csv``) first."""
+    logs = Path(run_folder) / "logs"
+    parts = [
+        pd.read_csv(path)
+        for path in (logs / "progress-history.csv", logs / "progress.csv")
+        if path.exists() and path.stat().st_size > 0
+    ]
+    if not parts:
+        raise FileNotFoundError(f"{logs}: no progress.csv, has this run trained yet?")
+    return pd.concat(parts, ignore_index=True).sort_values(STEPS, kind="stable")
+
+
+def learning_figure(table: pd.DataFrame, title: str) -> Figure:
+    """Return, final arm progress and failure rate against environment steps, side by side."""
+    figure = Figure(figsize=(13, 3.8), layout="constrained")
+    for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
+        if column in table:
+            axes.plot(table[STEPS], table[column])
+        axes.set(title=name, xlabel="environment steps", ylabel=unit)
+        axes.grid(alpha=0.3)
+    figure.suptitle(title)
+    return figure
+
+
+def write_learning_summary(run_folder: str | Path, out: str | Path) -> list[Path]:
+    """Write ``NAME-progress.csv`` and ``NAME-learning.png`` for the run into ``out``."""
+    from ..evaluation.io import write_csv, write_png
+
+    run_folder, out = Path(run_folder), Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    table = learning_table(run_folder)
+    csv_path = out / f"{run_folder.name}-progress.csv"
+    png_path = out / f"{run_folder.name}-learning.png"
+    write_csv(csv_path, table)
+    write_png(png_path, learning_figure(table, f"training run {run_folder.name}"))
+    return [csv_path, png_path]
