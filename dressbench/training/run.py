@@ -49,7 +49,7 @@ class TrainingRun:
                                                                          progress)])  # fmt: skip
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
-                write_learning_summary(self.folder, self.folder)
+            write_learning_summary(self.folder, self.folder, until=int(model.num_timesteps))
             return self.export(model)
         finally:
             venv.close()

@@ -19,8 +19,11 @@ PANELS = (  # column of progress.csv, title, axis label
 )
 
 
-def learning_table(run_folder: str | Path) -> pd.DataFrame:
-    """Every logged update of a run, earlier sessions (``progress-history.csv``) first."""
+def learning_table(run_folder: str | Path, until: int | None = None) -> pd.DataFrame:
+    """Every logged update of a run, earlier sessions (``progress-history.csv``) first.
+
+    ``until`` drops updates logged after that many steps (past the checkpoint a model came from).
+    """
     logs = Path(run_folder) / "logs"
     parts = [
         pd.read_csv(path)
@@ -29,7 +32,8 @@ def learning_table(run_folder: str | Path) -> pd.DataFrame:
     ]
     if not parts:
         raise FileNotFoundError(f"{logs}: no progress.csv, has this run trained yet?")
-    return pd.concat(parts, ignore_index=True).sort_values(STEPS, kind="stable")
+    table = pd.concat(parts, ignore_index=True).sort_values(STEPS, kind="stable")
+    return table if until is None else table[table[STEPS] <= until]
 
 
 def learning_figure(table: pd.DataFrame, title: str) -> Figure:
@@ -44,13 +48,15 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     return figure
 
 
-def write_learning_summary(run_folder: str | Path, out: str | Path) -> list[Path]:
+def write_learning_summary(
+    run_folder: str | Path, out: str | Path, until: int | None = None
+) -> list[Path]:
     """Write ``NAME-progress.csv`` and ``NAME-learning.png`` for the run into ``out``."""
     from ..evaluation.io import write_csv, write_png
 
     run_folder, out = Path(run_folder), Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    table = learning_table(run_folder)
+    table = learning_table(run_folder, until)
     csv_path = out / f"{run_folder.name}-progress.csv"
     png_path = out / f"{run_folder.name}-learning.png"
     write_csv(csv_path, table)
