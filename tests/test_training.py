@@ -106,7 +106,8 @@ def test_a_trained_human_dresses_better_than_passive_and_random(tmp_path, polici
     """Real learning on `fixed` (hours on 2 cores).
 
     N = DRESSBENCH_LEARN_STEPS (default 840k, as the shipped run). DRESSBENCH_LEARN_RUNS names a
-    runs folder to train in: a run already there (`dressbench train --robot fixed`) is resumed, not started again.
+    runs folder to train in: a run already there (`dressbench train --robot fixed`) is resumed,
+    not started again.
     """
     steps = int(os.environ.get("DRESSBENCH_LEARN_STEPS", "840000"))
     runs = os.environ.get("DRESSBENCH_LEARN_RUNS", str(tmp_path / "runs"))

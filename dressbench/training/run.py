@@ -8,7 +8,6 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
@@ -17,7 +16,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 from tqdm import tqdm
 
 from ..evaluation.io import write_csv
-from .summary import write_learning_summary
+from .summary import learning_table, write_learning_summary
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
 
@@ -100,12 +99,7 @@ class TrainingRun:
         log = self.folder / "logs" / "progress.csv"
         if not log.exists() or log.stat().st_size == 0:
             return
-        rows = pd.read_csv(log)
-        rows = rows[rows["time/total_timesteps"] <= done]
-        history = log.with_name("progress-history.csv")
-        if history.exists():
-            rows = pd.concat([pd.read_csv(history), rows], ignore_index=True)
-        write_csv(history, rows)
+        write_csv(log.with_name("progress-history.csv"), learning_table(self.folder, until=done))
         log.unlink()
 
     def save_checkpoint(self, model) -> None:

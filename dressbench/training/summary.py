@@ -11,6 +11,8 @@ from pathlib import Path
 import pandas as pd
 from matplotlib.figure import Figure
 
+from ..evaluation.io import write_csv, write_png
+
 STEPS = "time/total_timesteps"
 PANELS = (  # column of progress.csv, title, axis label
     ("rollout/ep_rew_mean", "episode return", "mean of the last 100 episodes"),
@@ -52,8 +54,6 @@ def write_learning_summary(
     run_folder: str | Path, out: str | Path, until: int | None = None
 ) -> list[Path]:
     """Write ``NAME-progress.csv`` and ``NAME-learning.png`` for the run into ``out``."""
-    from ..evaluation.io import write_csv, write_png
-
     run_folder, out = Path(run_folder), Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = learning_table(run_folder, until)
