@@ -28,6 +28,7 @@ from dressbench.plugins.protocols import (
 OK = "ok"
 ERROR = "error"
 _HOME_PACKAGE = "dressbench"  # its entry points are the built-ins and keep their names
+POLICY_FILE_VERSION = "file"  # the version of a trained model found as a policy file
 
 
 @dataclass(frozen=True)
@@ -47,6 +48,11 @@ class Plugin:
     def ok(self) -> bool:
         """Whether the plugin loaded and passed the interface checks."""
         return self.status == OK
+
+    @property
+    def from_policy_file(self) -> bool:
+        """Whether the plugin is a trained model found as a policy file, not an entry point."""
+        return self.version == POLICY_FILE_VERSION and self.package.startswith("policy file ")
 
     @property
     def origin(self) -> str:
@@ -123,7 +129,12 @@ def _policy_file_entries(group: str) -> list[_Entry]:
             factory = functools.partial(load_policy, path)
             entries.append(
                 _Entry(
-                    path.stem, group, f"policy file {path}", "file", str(path), lambda f=factory: f
+                    path.stem,
+                    group,
+                    f"policy file {path}",
+                    POLICY_FILE_VERSION,
+                    str(path),
+                    lambda f=factory: f,
                 )
             )
     return entries

@@ -59,10 +59,16 @@ class TrainedPolicy:
         clip_obs: float,
         epsilon: float,
         log_std: np.ndarray,
+        *,
+        checksum: str | None = None,
     ) -> None:
         self.path = path  # the .json file
         self.name = path.stem
         self.metadata = metadata
+        # the sha256 of the .safetensors, as the JSON records it and load_policy checked it
+        self.checksum = checksum
+        self.clip_obs = clip_obs
+        self.epsilon = epsilon
         self.robot: str | None = metadata["robot"]
         self.ablation: str = metadata["ablation"]
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
@@ -70,7 +76,6 @@ class TrainedPolicy:
         self._action_weight, self._action_bias = layers[-1]
         self._obs_mean = obs_mean
         self._obs_std = np.sqrt(obs_var + epsilon)  # as VecNormalize divides
-        self._clip_obs = clip_obs
 
     @property
     def obs_dim(self) -> int:
@@ -88,7 +93,7 @@ class TrainedPolicy:
                 f"policy {self.name!r} expects an observation of shape ({self.obs_dim},), "
                 f"got {obs.shape}"
             )
-        x = np.clip((obs - self._obs_mean) / self._obs_std, -self._clip_obs, self._clip_obs)
+        x = np.clip((obs - self._obs_mean) / self._obs_std, -self.clip_obs, self.clip_obs)
         for weight, bias in self._hidden:
             x = np.tanh(weight @ x + bias)
         return np.clip(self._action_weight @ x + self._action_bias, -1.0, 1.0)
@@ -273,6 +278,7 @@ def load_policy(path: str | os.PathLike[str]) -> TrainedPolicy:
         clip_obs=float(normalization["clip_obs"]),
         epsilon=float(normalization["epsilon"]),
         log_std=tensors["log_std"].astype(np.float64),
+        checksum=document["tensors"]["sha256"],
     )
 
 
