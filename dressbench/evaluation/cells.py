@@ -5,11 +5,12 @@ from __future__ import annotations
 import hashlib
 import warnings
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from ..plugins import human_plugins, load_human, load_robot, robot_plugins
+from .identity import canonical, digest, plain
 
 if TYPE_CHECKING:
     from ..config import EnvConfig
@@ -21,12 +22,14 @@ class Cell:
     """A robot strategy and a human model, and the ``make_human_env`` options of their episodes.
 
     ``options`` always holds the human's own ``ablation``: a policy is scored in the setting it
-    was trained for.
+    was trained for. ``plugins`` holds what the names stood for when the cell was made
+    (``plugin_identities``); a cell made by hand gets it from the registry on first use.
     """
 
     robot: str
     human: str
     options: Mapping[str, Any] = field(default_factory=dict, hash=False)
+    plugins: Mapping[str, Any] | None = field(default=None, hash=False)
 
     @property
     def ablation(self) -> str:
@@ -53,16 +56,80 @@ class Cell:
             "config_id": config_id(config),
         }
 
+    @cached_property
+    def identity(self) -> dict[str, Any]:
+        """What the cell's rollouts belong to, as JSON values: the robot's and the human's
+        identities (``plugin_identities``) and the full env configuration (``config_fields``).
+
+        A record is reused only by a cell of the same identity; its folder is named by its hash.
+        """
+        plugins = self.plugins
+        if plugins is None:
+            plugins = plugin_identities(self.robot, self.human)
+        return plain({**plugins, "config": config_fields(self.config())})
+
+    @cached_property
+    def key(self) -> str:
+        """A short hash of ``identity``: the cell's rollout folder is named by it."""
+        return digest(self.identity)
+
+
+def config_fields(config: EnvConfig) -> dict[str, Any]:
+    """Every field of an env configuration, nested dataclasses included, as JSON values."""
+    return plain(asdict(config))
+
 
 def config_id(config: EnvConfig) -> str:
-    """A short stable name of a whole env configuration, so different settings never mix."""
-    return "cfg-" + hashlib.sha1(repr(config).encode()).hexdigest()[:10]
+    """A short stable name of a whole env configuration, so different settings never mix.
+
+    ``cfg-`` + 10 hex digits of the SHA-1 of its fields as sorted JSON (``config_fields``).
+    """
+    return "cfg-" + hashlib.sha1(canonical(config_fields(config)).encode()).hexdigest()[:10]
+
+
+def robot_identity(name: str) -> dict[str, Any]:
+    """What a robot strategy name stands for: the entry point's name, distribution, version."""
+    plugin = robot_plugins()[name]
+    return {"name": name, "distribution": plugin.package, "version": plugin.version}
+
+
+def human_identity(name: str, policy: HumanPolicy) -> dict[str, Any]:
+    """What a human name stands for, given the instance ``policy`` it was loaded as.
+
+    A trained policy file is its checksum (the sha256 of its tensors, which ``load_policy``
+    verified) and its observation normalisation, wherever the file lies; an entry point is its
+    name, distribution and version, plus the checksum when it returns a trained policy.
+    """
+    from ..training.policy_file import TrainedPolicy  # light: NumPy and safetensors
+
+    plugin = human_plugins()[name]
+    identity: dict[str, Any] = {"name": name}
+    if plugin.from_policy_file:
+        identity["source"] = "policy file"
+    else:
+        identity |= {"distribution": plugin.package, "version": plugin.version}
+    if isinstance(policy, TrainedPolicy):
+        identity |= {
+            "checksum": policy.checksum,
+            "obs_normalization": {"clip_obs": policy.clip_obs, "epsilon": policy.epsilon},
+        }
+    return identity
+
+
+def plugin_identities(
+    robot: str, human: str, policy: HumanPolicy | None = None
+) -> dict[str, dict[str, Any]]:
+    """``{"robot": robot_identity(robot), "human": human_identity(human, policy)}``; the human
+    is loaded when ``policy`` is None."""
+    policy = policy if policy is not None else load_human(human)
+    return {"robot": robot_identity(robot), "human": human_identity(human, policy)}
 
 
 def make_cell(robot: str, human: str, policy: HumanPolicy | None = None, **options: Any) -> Cell:
     """A checked cell: both plugins exist, the options are valid, and the ablation is the human's.
 
-    Errors surface here, in the calling process, rather than inside a worker.
+    Errors surface here, in the calling process, rather than inside a worker. The cell records
+    the identities of the robot and of ``policy`` (the human, loaded if not given).
     """
     load_robot(robot)
     policy = policy if policy is not None else load_human(human)
@@ -71,7 +138,8 @@ def make_cell(robot: str, human: str, policy: HumanPolicy | None = None, **optio
             f"human {human!r} declares ablation {policy.ablation!r}; it is evaluated with it, "
             f"not with ablation={options['ablation']!r}"
         )
-    cell = Cell(robot, human, {**options, "ablation": policy.ablation})
+    plugins = plugin_identities(robot, human, policy)
+    cell = Cell(robot, human, {**options, "ablation": policy.ablation}, plugins)
     cell.config()  # an unknown option raises TypeError now
     return cell
 

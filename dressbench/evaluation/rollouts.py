@@ -7,7 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from .cells import Cell, make_cell
+from .cells import Cell, make_cell, plugin_identities
+from .identity import difference, same
 
 # Success depth, m: the arm is through the sleeve opening past the elbow, i.e. the hand (0.18 m)
 # and the forearm (0.26 m) are inside (segment lengths of docs/human.md).
@@ -93,6 +94,7 @@ class Runner:
 
         self.cell = cell
         self.policy = load_human(cell.human)
+        _check_unchanged(cell, plugin_identities(cell.robot, cell.human, self.policy))
         self.env = make_human_env(cell.robot, **cell.options)
         self.horizon = cell.config().horizon
 
@@ -129,6 +131,17 @@ class Runner:
             episode_return=total,
             steps=steps,
             success_depth=success_depth,
+        )
+
+
+def _check_unchanged(cell: Cell, plugins: dict[str, Any]) -> None:
+    """Refuse to run a cell whose robot or human is no longer what the cell was made with
+    (e.g. a policy file replaced, or a plugin upgraded, while an evaluation runs)."""
+    expected = {"robot": cell.identity["robot"], "human": cell.identity["human"]}
+    if not same(plugins, expected):
+        raise RuntimeError(
+            f"{cell.robot!r} x {cell.human!r} changed since the evaluation started "
+            f"({difference(plugins, expected)}): run it again"
         )
 
 

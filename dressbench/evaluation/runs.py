@@ -19,7 +19,7 @@ from .report import success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
-from .store import load_record, save_record
+from .store import cell_folder, load_record, report_earlier_rollouts, save_record
 from .workers import Task, run_tasks
 
 
@@ -39,7 +39,8 @@ def evaluate(
 
     Returns the episodes table (one row per rollout, as in episodes.csv). ``options`` go to
     ``make_human_env`` (horizon, gown_vertices, device, ...); the ablation is the human's.
-    Episodes already in ``out`` for the same cell, settings and seed are not run again.
+    Episodes already in ``out`` of the same identity (the robot's and human's names, versions
+    and, for a trained policy, checksum; the env settings; the seed) are not run again.
     """
     cell = make_cell(robot, human, **options)
     episodes_table, _ = _evaluate_cells(
@@ -97,11 +98,13 @@ def _evaluate_cells(
     ]
     done = {task: record for task in tasks if (record := load_record(out, task)) is not None}
     pending = [task for task in tasks if task not in done]
+    found = {task.cell for task in done}
+    report_earlier_rollouts(out, [cell for cell in cells if cell not in found])
     workers = workers or os.cpu_count() or 1
     with tqdm(
         total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
     ) as bar:
-        for task, record in run_tasks(pending, workers):
+        for task, record in run_tasks(pending, workers):  # nothing pending: nothing starts
             save_record(out, task, record)
             done[task] = record
             write_csv(out / "episodes.csv", _episodes_table(tasks, done))
@@ -132,6 +135,10 @@ def _evaluate_cells(
         "confidence_interval": f"{CONFIDENCE:.0%} percentile bootstrap of the mean, "
         f"{RESAMPLES} resamples, numpy default_rng(seed)",
         "cells": [cell.columns for cell in cells],
+        "plugins": [
+            {"robot": cell.identity["robot"], "human": cell.identity["human"]} for cell in cells
+        ],
+        "rollouts": [cell_folder(out, cell).relative_to(out).as_posix() for cell in cells],
         "configs": {cell.columns["config_id"]: cell.config() for cell in cells},
         "versions": versions(),
         "git_commit": git_commit(),

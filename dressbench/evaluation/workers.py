@@ -6,6 +6,7 @@ import multiprocessing
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
+from typing import Any
 
 from .cells import Cell
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord, Runner, episode_seed
@@ -25,6 +26,11 @@ class Task:
         """The seed the env and the human are reset with."""
         return episode_seed(self.seed, self.episode)
 
+    @property
+    def identity(self) -> dict[str, Any]:
+        """What the task's record belongs to: its cell's identity, the base seed and the index."""
+        return {**self.cell.identity, "seed": self.seed, "episode": self.episode}
+
 
 _runner: Runner | None = None  # this process's env: rebuilt only when the cell changes
 
@@ -40,7 +46,10 @@ def run_task(task: Task) -> EpisodeRecord:
 
 def run_tasks(tasks: Sequence[Task], workers: int) -> Iterator[tuple[Task, EpisodeRecord]]:
     """Each task with its record, as they finish: in this process for one worker, else in a
-    "spawn" pool (fork is unsafe with Warp and DART threads); stopping early cancels the rest."""
+    "spawn" pool (fork is unsafe with Warp and DART threads); stopping early cancels the rest.
+    No tasks: nothing is started, whatever ``workers``."""
+    if not tasks:
+        return
     if workers == 1:
         for task in tasks:
             yield task, run_task(task)
