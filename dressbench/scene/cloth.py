@@ -33,14 +33,18 @@ class ClothConfig:
 
     iterations: int = 10  # constraint iterations per substep
     substeps: int = 1  # substeps per simulation step
-    stretch_compliance: float = 1e-7  # m/N, XPBD compliance of mesh edges (near inextensible)
+    stretch_compliance: float = 0.0  # m/N, XPBD compliance of mesh edges (0: inextensible)
     bend_compliance: float = 0.5  # m/N, of the cross edges that resist folding (soft)
-    bend_iterations: int = 3  # bending is soft: it converges in the first few iterations
+    bend_iterations: int = 2  # bending is soft: it converges in the first few iterations
     shear_iterations: int = 5  # the grid's diagonals: fabric shears easily
     contact_every: int = 2  # tethers and collisions every this many iterations, and the last
-    tether_slack: float = 0.02  # tethers allow this fraction beyond the rest geodesic length
+    tether_slack: float = 0.0  # tethers allow this fraction beyond the rest geodesic length
+    span_steps: tuple[int, ...] = (4, 12)  # grid steps of the long-range straight spans
+    span_slack: float = 0.005  # spans allow this fraction beyond their rest length
+    span_iterations: int = 3  # spans carry the load early; the edges then refine it locally
     thickness: float = 0.005  # m, cloth half-thickness kept between a vertex and a capsule
     friction: float = 0.5  # Coulomb coefficient between cloth and skin
+    tension_stiffness: float = 300.0  # N/m per edge: the tension a stretched edge pulls with
     damping: float = 2.0  # 1/s, linear velocity damping: air drag on a light fabric
     broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
@@ -67,11 +71,16 @@ def _integrate(
     h: float,
     contact_cap: wp.array(dtype=int),
     contact_push: wp.array(dtype=wp.vec3),
+    tension: wp.array(dtype=wp.vec3),
+    normals: wp.array(dtype=wp.vec3),
 ):
+    """Predict positions under gravity and drag; clear the step's per-vertex accumulators."""
     i = wp.tid()
     x_prev[i] = x[i]
     contact_cap[i] = -1
     contact_push[i] = wp.vec3(0.0)
+    tension[i] = wp.vec3(0.0)
+    normals[i] = wp.vec3(0.0)
     if inv_mass[i] > 0.0:
         vi = (v[i] + gravity * h) * wp.max(0.0, 1.0 - damping * h)
         v[i] = vi
@@ -101,19 +110,19 @@ def _broadphase(
     cap_a: wp.array(dtype=wp.vec3),
     cap_b: wp.array(dtype=wp.vec3),
     cap_r: wp.array(dtype=float),
+    cap_lo: wp.array(dtype=wp.vec3),
+    cap_hi: wp.array(dtype=wp.vec3),
     n_caps: int,
     reach: float,
     mask: wp.array(dtype=int),
 ):
+    """One bit per capsule within ``reach`` of the vertex (its box, then the exact distance)."""
     i = wp.tid()
     p = x[i]
     m = int(0)
     for c in range(n_caps):
-        a = cap_a[c]
-        b = cap_b[c]
-        r = cap_r[c] + reach
-        lo = wp.min(a, b) - wp.vec3(r)
-        hi = wp.max(a, b) + wp.vec3(r)
+        lo = cap_lo[c]
+        hi = cap_hi[c]
         if (
             p[0] > lo[0]
             and p[1] > lo[1]
@@ -122,8 +131,9 @@ def _broadphase(
             and p[1] < hi[1]
             and p[2] < hi[2]
         ):
-            t = closest_on_segment(p, a, b)
-            if wp.length(p - (a + (b - a) * t)) < r:
+            a = cap_a[c]
+            b = cap_b[c]
+            if wp.length(p - (a + (b - a) * closest_on_segment(p, a, b))) < cap_r[c] + reach:
                 m = m | (1 << c)
     mask[i] = m
 
@@ -144,11 +154,12 @@ def _solve_distance(
     inv_mass: wp.array(dtype=float),
     pairs: wp.array(dtype=wp.vec2i),
     rest: wp.array(dtype=float),
-    alpha: wp.array(dtype=float),
+    alpha: float,
     lam: wp.array(dtype=float),
     offset: int,
 ):
-    """One XPBD distance constraint, in place."""
+    """One XPBD distance constraint, in place; ``alpha`` = 0 is a hard (PBD) constraint, which
+    needs no multiplier."""
     k = wp.tid() + offset
     i = pairs[k][0]
     j = pairs[k][1]
@@ -156,67 +167,169 @@ def _solve_distance(
     wj = inv_mass[j]
     d = x[i] - x[j]
     length = wp.length(d)
-    w = wi + wj + alpha[k]
+    w = wi + wj + alpha
     if length < 1.0e-9 or w == 0.0:
         return
-    dlam = (-(length - rest[k]) - alpha[k] * lam[k]) / w
+    dlam = -(length - rest[k]) / w
+    if alpha > 0.0:
+        dlam = dlam - alpha * lam[k] / w
+        lam[k] = lam[k] + dlam
     corr = d / length * dlam
-    lam[k] = lam[k] + dlam
     x[i] = x[i] + corr * wi
     x[j] = x[j] - corr * wj
 
 
 @wp.kernel
-def _solve_tethers(
+def _solve_max_distance(
     x: wp.array(dtype=wp.vec3),
     inv_mass: wp.array(dtype=float),
-    anchor: wp.array(dtype=int),
+    pairs: wp.array(dtype=wp.vec2i),
     max_length: wp.array(dtype=float),
+    offset: int,
 ):
-    i = wp.tid()
-    a = anchor[i]
-    if a < 0 or inv_mass[i] == 0.0:
-        return
-    d = x[i] - x[a]
+    """Pull two vertices no farther apart than ``max_length`` (a one-sided, hard constraint)."""
+    k = wp.tid() + offset
+    i = pairs[k][0]
+    j = pairs[k][1]
+    wi = inv_mass[i]
+    wj = inv_mass[j]
+    d = x[i] - x[j]
     length = wp.length(d)
-    if length > max_length[i]:
-        x[i] = x[a] + d * (max_length[i] / length)
+    if length <= max_length[k] or wi + wj == 0.0:
+        return
+    corr = d / length * ((max_length[k] - length) / (wi + wj))
+    x[i] = x[i] + corr * wi
+    x[j] = x[j] - corr * wj
+
+
+@wp.func
+def push_out(
+    p: wp.vec3,
+    p_prev: wp.vec3,
+    a: wp.vec3,
+    b: wp.vec3,
+    a_prev: wp.vec3,
+    b_prev: wp.vec3,
+    radius: float,
+    thickness: float,
+) -> wp.vec3:
+    """The displacement that takes point ``p`` out of a capsule to ``radius + thickness``, on
+    the side it was on at the start of the step (zero if it is outside).
+
+    A thin limb can move more than its radius in a step relative to the cloth; pushed out along
+    the nearest normal, a point that crossed the axis would pass through the limb."""
+    q = a + (b - a) * closest_on_segment(p, a, b)
+    d = p - q
+    dist = wp.length(d)
+    r = radius + thickness
+    if dist >= r:
+        return wp.vec3(0.0)
+    n = wp.vec3(0.0, 0.0, 1.0)
+    if dist > 1.0e-9:
+        n = d / dist
+    d_prev = p_prev - (a_prev + (b_prev - a_prev) * closest_on_segment(p_prev, a_prev, b_prev))
+    if wp.length(d_prev) > radius and wp.dot(d_prev, n) < 0.0:
+        n = wp.normalize(d_prev)  # it came from the other side: back out there
+        dist = wp.dot(d, n)
+    return n * (r - dist)
 
 
 @wp.kernel
-def _collide(
+def _tether_and_collide(
     x: wp.array(dtype=wp.vec3),
+    x_prev: wp.array(dtype=wp.vec3),
     inv_mass: wp.array(dtype=float),
+    anchor: wp.array(dtype=int),
+    max_length: wp.array(dtype=float),
     mask: wp.array(dtype=int),
     cap_a: wp.array(dtype=wp.vec3),
     cap_b: wp.array(dtype=wp.vec3),
+    cap_a_prev: wp.array(dtype=wp.vec3),
+    cap_b_prev: wp.array(dtype=wp.vec3),
     cap_r: wp.array(dtype=float),
     n_caps: int,
     thickness: float,
     contact_cap: wp.array(dtype=int),
     contact_push: wp.array(dtype=wp.vec3),
 ):
+    """Keep each free vertex within its tether's length of its pinned anchor, then push it out
+    of the capsules (see ``push_out``)."""
     i = wp.tid()
-    m = mask[i]
-    if m == 0 or inv_mass[i] == 0.0:
+    if inv_mass[i] == 0.0:
         return
     p = x[i]
-    for c in range(n_caps):
-        if (m >> c) & 1:
-            t = closest_on_segment(p, cap_a[c], cap_b[c])
-            q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
-            d = p - q
-            dist = wp.length(d)
-            r = cap_r[c] + thickness
-            if dist < r:
-                n = wp.vec3(0.0, 0.0, 1.0)
-                if dist > 1.0e-9:
-                    n = d / dist
-                push = n * (r - dist)
+    a = anchor[i]
+    if a >= 0:
+        d = p - x[a]
+        length = wp.length(d)
+        if length > max_length[i]:
+            p = x[a] + d * (max_length[i] / length)
+    m = mask[i]
+    c = int(0)
+    while m != 0:  # only the capsules the broadphase found near
+        if m & 1:
+            push = push_out(
+                p, x_prev[i], cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
+            )
+            if wp.length_sq(push) > 0.0:
                 p = p + push
                 contact_push[i] = contact_push[i] + push
                 contact_cap[i] = c
+        m = m >> 1
+        c += 1
     x[i] = p
+
+
+@wp.kernel
+def _collide_triangles(
+    x: wp.array(dtype=wp.vec3),
+    x_prev: wp.array(dtype=wp.vec3),
+    inv_mass: wp.array(dtype=float),
+    tris: wp.array(dtype=wp.vec3i),
+    mask: wp.array(dtype=int),
+    cap_a: wp.array(dtype=wp.vec3),
+    cap_b: wp.array(dtype=wp.vec3),
+    cap_a_prev: wp.array(dtype=wp.vec3),
+    cap_b_prev: wp.array(dtype=wp.vec3),
+    cap_r: wp.array(dtype=float),
+    n_caps: int,
+    thickness: float,
+    contact_cap: wp.array(dtype=int),
+    contact_push: wp.array(dtype=wp.vec3),
+):
+    """Push each triangle's centroid out of the capsules, moving its free vertices.
+
+    Vertex contacts alone let a limb slip between the vertices of a triangle and part the
+    fabric around itself (the triangle then straddles the limb, stretched for free)."""
+    k = wp.tid()
+    i = tris[k][0]
+    j = tris[k][1]
+    l = tris[k][2]
+    m = mask[i] | mask[j] | mask[l]
+    w = inv_mass[i] + inv_mass[j] + inv_mass[l]
+    if m == 0 or w == 0.0:
+        return
+    p = (x[i] + x[j] + x[l]) / 3.0
+    p_prev = (x_prev[i] + x_prev[j] + x_prev[l]) / 3.0
+    c = int(0)
+    while m != 0:
+        if m & 1:
+            push = push_out(
+                p, p_prev, cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
+            )
+            if wp.length_sq(push) > 0.0:
+                # the least-mass-weighted move of the vertices that moves the centroid by push
+                s = 3.0 / w
+                p = p + push
+                for v in range(3):
+                    vi = tris[k][v]
+                    dv = push * (inv_mass[vi] * s)
+                    x[vi] = x[vi] + dv
+                    if inv_mass[vi] > 0.0:
+                        contact_push[vi] = contact_push[vi] + dv
+                        contact_cap[vi] = c
+        m = m >> 1
+        c += 1
 
 
 @wp.kernel
@@ -237,6 +350,7 @@ def _finish(
     contact_push: wp.array(dtype=wp.vec3),
     contact_force: wp.array(dtype=wp.vec3),
     contact_point: wp.array(dtype=wp.vec3),
+    tension: wp.array(dtype=wp.vec3),
     gripper: wp.array(dtype=wp.transform),
     extremes: wp.array(dtype=float),
 ):
@@ -263,11 +377,41 @@ def _finish(
         vi = vi + dv_friction
         # the cloth's momentum change from contact, returned to the body with opposite sign
         f = -(contact_push[i] / h + dv_friction) * (mass[i] / h)
+        # and the fabric's tension that presses the vertex onto the body: the body holds it
+        # (with friction along the surface), so the reaction of the held cloth reaches the limb
+        pull = tension[i]
+        pull_n = wp.dot(pull, n)
+        if pull_n < 0.0:
+            along = pull - n * pull_n
+            along_len = wp.length(along)
+            f = f + n * pull_n
+            if along_len > 1.0e-9:
+                f = f + along * wp.min(1.0, -mu * pull_n / along_len)
         contact_point[i] = q + n * cap_r[c]
     v[i] = vi
     contact_force[i] = f
     wp.atomic_max(extremes, 0, wp.length(vi))
     wp.atomic_max(extremes, 1, wp.length(x[i] - wp.transform_get_translation(gripper[0])))
+
+
+@wp.kernel
+def _edge_tension(
+    x: wp.array(dtype=wp.vec3),
+    pairs: wp.array(dtype=wp.vec2i),
+    rest: wp.array(dtype=float),
+    stiffness: float,
+    tension: wp.array(dtype=wp.vec3),
+):
+    """Each stretched edge pulls its two vertices toward each other with stiffness x stretch."""
+    k = wp.tid()
+    i = pairs[k][0]
+    j = pairs[k][1]
+    d = x[j] - x[i]
+    length = wp.length(d)
+    if length > rest[k]:
+        f = d * (stiffness * (length - rest[k]) / length)
+        wp.atomic_add(tension, i, f)
+        wp.atomic_sub(tension, j, f)
 
 
 @wp.kernel
@@ -377,7 +521,7 @@ class _DistanceSet:
         self.size = len(pairs)
         self.pairs = arr(pairs[order], wp.vec2i)
         self.rest = arr(np.asarray(rest)[order], float)
-        self.alpha = arr(np.full(self.size, alpha_tilde), float)
+        self.alpha = float(alpha_tilde)
         self.lam = wp.zeros(self.size, dtype=float, device=device)
 
 
@@ -406,9 +550,14 @@ class Cloth:
         dt: float = 0.01,
         device: str = "cpu",
         shear_edges: np.ndarray | None = None,
+        spans: np.ndarray | None = None,
+        span_rest: np.ndarray | None = None,
     ) -> None:
         """``shear_edges`` marks the edges (the grid's diagonals) that resist shear, not
-        stretch: a woven fabric shears easily, so they are solved in fewer iterations."""
+        stretch: a woven fabric shears easily, so they are solved in fewer iterations.
+        ``spans`` are vertex pairs along straight lines of the flat pattern, kept no farther
+        apart than ``span_rest`` (1 + slack): they carry a load across many edges in one
+        projection, where the edges alone would need many iterations."""
         if len(capsule_radius) > MAX_CAPSULES:
             raise ValueError(f"at most {MAX_CAPSULES} capsules, got {len(capsule_radius)}")
         wp.init()
@@ -442,6 +591,9 @@ class Cloth:
             _DistanceSet(edges[shear], edge_rest[shear], alpha, arr, d),
             _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, arr, d),
         ]
+        if spans is None:
+            spans, span_rest = np.zeros((0, 2), np.int32), np.zeros(0)
+        self.spans = _DistanceSet(spans, np.asarray(span_rest) * (1.0 + config.span_slack), 0.0, arr, d)
         self.anchor = arr(tether_anchor, int)
         self.tether_length = arr(tether_length * (1.0 + config.tether_slack), float)
         self.tris = arr(self.triangles, wp.vec3i)
@@ -456,6 +608,10 @@ class Cloth:
         self.cap_a_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_b_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_r = arr(capsule_radius, float)
+        self.capsule_radius = np.asarray(capsule_radius, dtype=float)
+        self._reach = config.thickness + config.broadphase_margin
+        self.cap_lo = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
+        self.cap_hi = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_body = arr(capsule_body, int)
         self.mask = wp.zeros(self.n, dtype=int, device=d)
         self.contact_cap = wp.full(self.n, -1, dtype=int, device=d)
@@ -463,6 +619,7 @@ class Cloth:
         self.contact_force = wp.zeros(self.n, dtype=wp.vec3, device=d)
         self.contact_point = wp.zeros(self.n, dtype=wp.vec3, device=d)
         self.normals = wp.zeros(self.n, dtype=wp.vec3, device=d)
+        self.tension = wp.zeros(self.n, dtype=wp.vec3, device=d)
         self.body_origin = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
         self.body_force = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
         self.body_torque = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
@@ -498,6 +655,9 @@ class Cloth:
         _write(self.cap_b_prev, capsules_prev[:, 1])
         _write(self.cap_a, capsules[:, 0])
         _write(self.cap_b, capsules[:, 1])
+        reach = self.capsule_radius[:, None] + self._reach
+        _write(self.cap_lo, capsules.min(axis=1) - reach)
+        _write(self.cap_hi, capsules.max(axis=1) + reach)
         _write(self.body_origin, body_origins)
         _write(self.sensors, sensors)
 
@@ -523,7 +683,7 @@ class Cloth:
         d = self.device
         n = self.n
         h = self.dt / cfg.substeps
-        caps = (self.cap_a, self.cap_b, self.cap_r, self.n_caps)
+        reach = cfg.thickness + cfg.broadphase_margin
         wp.launch(_zero_vec3, self.n_bodies, [self.body_force], device=d)
         wp.launch(_zero_vec3, self.n_bodies, [self.body_torque], device=d)
         for s in range(cfg.substeps):
@@ -540,6 +700,8 @@ class Cloth:
                     h,
                     self.contact_cap,
                     self.contact_push,
+                    self.tension,
+                    self.normals,
                 ],
                 device=d,
             )
@@ -560,11 +722,22 @@ class Cloth:
             wp.launch(
                 _broadphase,
                 n,
-                [self.x, *caps, cfg.thickness + cfg.broadphase_margin, self.mask],
+                [
+                    self.x,
+                    self.cap_a,
+                    self.cap_b,
+                    self.cap_r,
+                    self.cap_lo,
+                    self.cap_hi,
+                    self.n_caps,
+                    reach,
+                    self.mask,
+                ],
                 device=d,
             )
             for cs in self.constraint_sets:
-                wp.launch(_zero_float, cs.size, [cs.lam], device=d)
+                if cs.alpha > 0.0:  # hard constraints carry no multiplier
+                    wp.launch(_zero_float, cs.size, [cs.lam], device=d)
             stretch, shear, bend = self.constraint_sets
             for it in range(cfg.iterations):
                 self._solve(stretch)
@@ -572,27 +745,58 @@ class Cloth:
                     self._solve(shear)
                 if it < cfg.bend_iterations:
                     self._solve(bend)
+                if it < cfg.span_iterations:
+                    self._solve(self.spans, _solve_max_distance)
                 if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one
                     wp.launch(
-                        _solve_tethers,
-                        n,
-                        [self.x, self.inv_mass, self.anchor, self.tether_length],
-                        device=d,
-                    )
-                    wp.launch(
-                        _collide,
+                        _tether_and_collide,
                         n,
                         [
                             self.x,
+                            self.x_prev,
                             self.inv_mass,
+                            self.anchor,
+                            self.tether_length,
                             self.mask,
-                            *caps,
+                            self.cap_a,
+                            self.cap_b,
+                            self.cap_a_prev,
+                            self.cap_b_prev,
+                            self.cap_r,
+                            self.n_caps,
                             cfg.thickness,
                             self.contact_cap,
                             self.contact_push,
                         ],
                         device=d,
                     )
+                    wp.launch(
+                        _collide_triangles,
+                        len(self.triangles),
+                        [
+                            self.x,
+                            self.x_prev,
+                            self.inv_mass,
+                            self.tris,
+                            self.mask,
+                            self.cap_a,
+                            self.cap_b,
+                            self.cap_a_prev,
+                            self.cap_b_prev,
+                            self.cap_r,
+                            self.n_caps,
+                            cfg.thickness,
+                            self.contact_cap,
+                            self.contact_push,
+                        ],
+                        device=d,
+                    )
+            wp.launch(
+                _edge_tension,
+                stretch.size,
+                [self.x, stretch.pairs, stretch.rest, cfg.tension_stiffness, self.tension],
+                device=d,
+            )
             wp.launch(
                 _finish,
                 n,
@@ -613,12 +817,12 @@ class Cloth:
                     self.contact_push,
                     self.contact_force,
                     self.contact_point,
+                    self.tension,
                     self.gripper,
                     self.extremes,
                 ],
                 device=d,
             )
-            wp.launch(_zero_vec3, n, [self.normals], device=d)
             wp.launch(
                 _vertex_normals, len(self.triangles), [self.x, self.tris, self.normals], device=d
             )
@@ -647,7 +851,7 @@ class Cloth:
             )
             # the body wrench is the substep average; the sensors accumulate over steps
 
-    def _solve(self, cs: _DistanceSet) -> None:
+    def _solve(self, cs: _DistanceSet, kernel=None) -> None:
         """Gauss-Seidel over the constraints, colour by colour.
 
         Constraints of one colour share no vertex, so a colour is race-free in parallel (one
@@ -659,13 +863,14 @@ class Cloth:
             per_color = self.device.is_cuda
         ranges = cs.color_ranges if per_color else [(0, cs.size)]
         for start, count in ranges:
-            if count:
-                wp.launch(
-                    _solve_distance,
-                    count,
-                    [self.x, self.inv_mass, cs.pairs, cs.rest, cs.alpha, cs.lam, start],
-                    device=self.device,
-                )
+            if not count:
+                continue
+            if kernel is None:
+                inputs = [self.x, self.inv_mass, cs.pairs, cs.rest, cs.alpha, cs.lam, start]
+                wp.launch(_solve_distance, count, inputs, device=self.device)
+            else:
+                inputs = [self.x, self.inv_mass, cs.pairs, cs.rest, start]
+                wp.launch(kernel, count, inputs, device=self.device)
 
     # ----------------------------------------------------------------------------- outputs
     def positions(self) -> np.ndarray:

@@ -90,6 +90,10 @@ class Gown:
     geodesic_scale: float  # unnormalized distance of the farthest vertex, m
     sheet: np.ndarray  # (V,) int8: FRONT, BACK or SEAM (shared by both sheets)
     region: np.ndarray  # (V,) int8: BODY, RIGHT_SLEEVE or LEFT_SLEEVE
+    grid: np.ndarray  # (3, nu, nv) vertex id of each pattern-grid node on the front and the two
+    #                   back halves, -1 where the node is not on that piece (seams share ids)
+    side: np.ndarray  # (V,) int8: -1 wearer's right (u < 0), +1 left, 0 front centre line;
+    #                    the back slit's two copies of u = 0 take the side of their half
     h: float  # nominal grid spacing of the pattern, m
     loop_radius: float  # radius of the circle the feature loop lies on, m
     loop_rest_length: float  # rest (pattern) perimeter of the feature loop, m
@@ -378,6 +382,27 @@ def _regions(g: _Grid, n: _Nodes) -> np.ndarray:
     return np.select([right, left], [RIGHT_SLEEVE, LEFT_SLEEVE], BODY).astype(np.int8)
 
 
+def straight_pairs(gown: Gown, step: int) -> tuple[np.ndarray, np.ndarray]:
+    """Vertex pairs ``step`` grid nodes apart along one row or column of one piece, and their
+    pattern distance.
+
+    A straight grid line inside one flat piece is a geodesic of the rest state, so the pattern
+    distance bounds how far apart the pair can get without stretching the fabric between them.
+    """
+    pairs = []
+    for piece in gown.grid:
+        for lines in (piece, piece.T):  # rows (fixed v) and columns (fixed u)
+            for line in lines:
+                ids = line[line >= 0]  # each row or column of a piece is one contiguous run
+                if len(ids) > step:
+                    pairs.append(np.stack([ids[:-step], ids[step:]], 1))
+    if not pairs:
+        return np.zeros((0, 2), np.int32), np.zeros(0)
+    pairs = np.unique(np.sort(np.concatenate(pairs), axis=1), axis=0).astype(np.int32)
+    rest = np.linalg.norm(gown.pattern[pairs[:, 0]] - gown.pattern[pairs[:, 1]], axis=1)
+    return pairs, rest
+
+
 def make_gown(config: GownConfig | None = None) -> Gown:
     """Build the sewn hospital-gown mesh, its rest state and its right-armhole feature."""
     cfg = GownConfig() if config is None else config
@@ -413,6 +438,9 @@ def make_gown(config: GownConfig | None = None) -> Gown:
         geodesic_scale=scale,
         sheet=sheet,
         region=_regions(grid, nodes),
+        grid=nodes.vid.astype(np.int32),
+        side=np.where(nodes.layer == 1, -1, np.where(nodes.layer == 2, 1, np.sign(pattern[:, 0])))
+        .astype(np.int8),
         h=h,
         loop_radius=radius,
         loop_rest_length=loop_len,

@@ -21,16 +21,15 @@ class Hoop:
     """Kinematic capsule chains through the held vertices, moved with the gripper."""
 
     def __init__(
-        self, human: Human, rings: list[np.ndarray], bars: list[np.ndarray], radius: float = 0.006
+        self, human: Human, ring: np.ndarray, radius: float = 0.006
     ) -> None:
-        """``rings`` are closed polylines, ``bars`` open ones, in the gown's frame."""
+        """``ring`` is the held loop (a closed polyline) in the gown's frame."""
         self.skeleton = dart.dynamics.Skeleton("gripper_hoop")
         joint, body = self.skeleton.createFreeJointAndBodyNodePair()
         body.setName("hoop")
-        lines = [np.vstack([r, r[:1]]) for r in rings] + list(bars)
-        for line in lines:
-            for a, b in zip(line[:-1], line[1:], strict=True):
-                _add_capsule(body, a, b, radius)
+        closed = np.vstack([ring, ring[:1]])
+        for a, b in zip(closed[:-1], closed[1:], strict=True):
+            _add_capsule(body, a, b, radius)
         self.skeleton.setMobile(False)
         self._joint = joint
         self._body = body
@@ -41,9 +40,13 @@ class Hoop:
             for k in range(human_body.getNumShapeNodes())
         }
         self._world = human.world
+        self._pose: np.ndarray | None = None
 
     def set_pose(self, pose: np.ndarray) -> None:
         """Place the hoop at a gripper pose (x, y, z, qx, qy, qz, qw)."""
+        if self._pose is not None and np.array_equal(pose, self._pose):
+            return  # a still gripper: DART keeps the hoop where it is
+        self._pose = np.array(pose, dtype=float)
         tf = dart.math.Isometry3()
         tf.set_translation(pose[:3])
         tf.set_rotation(quat_matrix(pose[3:]))

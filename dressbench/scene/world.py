@@ -15,7 +15,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from .cloth import Cloth, ClothConfig
-from .garment import BACK, FRONT, SEAM, Gown, GownConfig, make_gown
+from .garment import BACK, SEAM, Gown, GownConfig, make_gown, straight_pairs
 from .geometry import interpolate_pose, quat_matrix, transform_points
 from .gripper import Hoop
 from .human import Human, HumanConfig
@@ -55,9 +55,9 @@ class Scene:
         self.gown: Gown = make_gown(config.gown)
         self.human = Human(config.human, dt=config.dt)
         g = self.gown
-        lines = held_lines(g)
-        self.pinned = np.unique(np.concatenate([g.feature_loop, *lines]))  # what the gripper holds
+        self.pinned = np.sort(g.feature_loop)  # the gripper holds the sleeve's opening
         anchor, length = tethers(g, self.pinned)
+        spans = [straight_pairs(g, k) for k in config.cloth.span_steps]
         self.cloth = Cloth(
             g.positions,
             g.masses,
@@ -78,13 +78,11 @@ class Scene:
             config=config.cloth,
             dt=config.dt,
             device=config.device,
+            spans=np.concatenate([p for p, _ in spans]) if spans else None,
+            span_rest=np.concatenate([r for _, r in spans]) if spans else None,
             shear_edges=np.all(np.abs(np.diff(g.pattern[g.edges], axis=1)[:, 0]) > 1e-9, axis=1),
         )
-        self.hoop = Hoop(
-            self.human,
-            rings=[g.positions[g.feature_loop]],
-            bars=[g.positions[line[[0, -1]]] for line in lines],  # the held lines are straight
-        )
+        self.hoop = Hoop(self.human, g.positions[g.feature_loop])
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
         self.failed = False
@@ -205,24 +203,6 @@ class Scene:
         return self.cloth.effector_contacts()
 
 
-def held_lines(gown: Gown, length: float = 0.2) -> list[np.ndarray]:
-    """Lines of the body the gripper holds besides the armhole, each from the loop outward.
-
-    Held by the armhole alone, the body of the gown hangs across the way to the opening. Like a
-    caregiver presenting a gown, the gripper also holds the shoulder seam and the front and back
-    panels at the opening's mid-height, ``length`` along the body: the panels then hang on both
-    sides of a tunnel that leads the hand to the armhole.
-    """
-    c = gown.config
-    u, v = gown.pattern[:, 0], gown.pattern[:, 1]
-    near = (u >= -c.body_width / 2 - 1e-9) & (u <= -c.body_width / 2 + length + 1e-9)
-    middle = c.body_length - c.sleeve_width / 2
-    mid_row = v[np.argmin(np.abs(v - middle))]
-    lines = [(gown.sheet == SEAM) & np.isclose(v, c.body_length) & near]
-    lines += [(gown.sheet == sheet) & np.isclose(v, mid_row) & near for sheet in (FRONT, BACK)]
-    return [idx[np.argsort(u[idx])].astype(np.int32) for idx in map(np.flatnonzero, lines)]
-
-
 def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each vertex's tether: its nearest pinned vertex and the geodesic length to it.
 
@@ -241,7 +221,7 @@ def tethers(gown: Gown, pinned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     sheet, p_sheet = gown.sheet[None, :], gown.sheet[pinned, None]
     same_sheet = (sheet == p_sheet) | (sheet == SEAM) | (p_sheet == SEAM)
     across_slit = ((sheet == BACK) | (p_sheet == BACK)) & (
-        np.sign(gown.pattern[None, :, 0]) * np.sign(gown.pattern[pinned, None, 0]) < 0
+        gown.side[None, :] * gown.side[pinned, None] < 0
     )
     length = np.where(same_sheet & ~across_slit, np.minimum(straight, along_edges), along_edges)
     nearest = np.argmin(length, axis=0)
