@@ -55,6 +55,18 @@ def bench(
 
 
 @main.command()
+@click.option("--episodes", default=6, show_default=True, help="Episodes per human motion.")
+def calibrate(episodes: int) -> None:
+    """Measure how much careful, pressing and careless motions deform the gown (the table of
+    docs/reward.md, behind the deformation threshold)."""
+    from .calibration import calibration, markdown
+
+    if episodes < 1:
+        raise click.BadParameter("must be at least 1", param_hint="--episodes")
+    click.echo(markdown(calibration(episodes)), nl=False)
+
+
+@main.command()
 def plugins() -> None:
     """List every robot strategy and human policy plugin, with its package and status."""
     from .plugins import all_plugins

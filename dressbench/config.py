@@ -20,8 +20,8 @@ class RewardConfig:
     deformation: float = 6.0
     geodesic: float = 2.0
     upright: float = 1.0
-    deformation_threshold: float = 5.0  # the paper: 15; see docs/reward.md
-    deformation_scale: float = 0.7
+    deformation_threshold: float = 1.0  # the paper: 15; see docs/reward.md
+    deformation_scale: float = 1.5  # the paper: 0.7
 
 
 @dataclass(frozen=True)

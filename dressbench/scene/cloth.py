@@ -324,9 +324,9 @@ def _collide_triangles(
                 for v in range(3):
                     vi = tris[k][v]
                     dv = push * (inv_mass[vi] * s)
-                    x[vi] = x[vi] + dv
+                    wp.atomic_add(x, vi, dv)  # triangles share vertices: atomic on a GPU
                     if inv_mass[vi] > 0.0:
-                        contact_push[vi] = contact_push[vi] + dv
+                        wp.atomic_add(contact_push, vi, dv)
                         contact_cap[vi] = c
         m = m >> 1
         c += 1
