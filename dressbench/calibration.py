@@ -11,11 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .plugins.robots import FRONT, RIGHT_SHOULDER
 from .scene.world import Scene, SceneConfig
 from .state import measure
-
-SHOULDER = np.array([0.0, -0.19, 0.5])  # the right shoulder at rest, in the human's frame
-FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # the sleeve pointing away from the human
 
 
 @dataclass(frozen=True)
@@ -37,7 +35,7 @@ def outstretched(scene: Scene) -> np.ndarray:
 def sleeve_over_arm(scene: Scene, seconds: float) -> tuple[float, float]:
     """The gripper slides the sleeve 0.7 m over a still, outstretched arm in ``seconds``."""
     q = outstretched(scene)
-    start, end = SHOULDER + [1.05, 0.0, 0.0], SHOULDER + [0.35, 0.0, 0.0]
+    start, end = RIGHT_SHOULDER + [1.05, 0.0, 0.0], RIGHT_SHOULDER + [0.35, 0.0, 0.0]
     scene.reset(np.concatenate([start, FRONT]), human_q=q)
     hold = scene.human.action_for(q)
     steps = max(1, round(seconds / (scene.config.dt * scene.config.frame_skip)))

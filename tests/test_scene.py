@@ -6,12 +6,13 @@ import pytest
 
 from dressbench import metrics
 from dressbench.bench import reach_action
+from dressbench.calibration import outstretched
+from dressbench.plugins.robots import RIGHT_SHOULDER as SHOULDER
 from dressbench.scene.geometry import transform_points
 from dressbench.scene.world import Scene
 from dressbench.state import measure
 
 FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # the sleeve points forward, away from the human
-SHOULDER = np.array([0.0, -0.19, 0.5])
 
 
 def pose(position, quaternion=FRONT) -> np.ndarray:
@@ -21,13 +22,6 @@ def pose(position, quaternion=FRONT) -> np.ndarray:
 @pytest.fixture(scope="module")
 def scene() -> Scene:
     return Scene()
-
-
-def outstretched(scene: Scene) -> np.ndarray:
-    """Right arm straight ahead at shoulder height, everything else at rest."""
-    q = scene.human.rest.copy()
-    q[8:12] = [0.0, 0.0, np.pi / 2, 0.0]  # shoulder elevation, middle axis, swing; elbow
-    return q
 
 
 def edge_stretch(scene: Scene, x: np.ndarray) -> np.ndarray:

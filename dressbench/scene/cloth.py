@@ -302,15 +302,15 @@ def _collide_triangles(
     Vertex contacts alone let a limb slip between the vertices of a triangle and part the
     fabric around itself (the triangle then straddles the limb, stretched for free)."""
     k = wp.tid()
-    i = tris[k][0]
-    j = tris[k][1]
-    l = tris[k][2]
-    m = mask[i] | mask[j] | mask[l]
-    w = inv_mass[i] + inv_mass[j] + inv_mass[l]
+    i0 = tris[k][0]
+    i1 = tris[k][1]
+    i2 = tris[k][2]
+    m = mask[i0] | mask[i1] | mask[i2]
+    w = inv_mass[i0] + inv_mass[i1] + inv_mass[i2]
     if m == 0 or w == 0.0:
         return
-    p = (x[i] + x[j] + x[l]) / 3.0
-    p_prev = (x_prev[i] + x_prev[j] + x_prev[l]) / 3.0
+    p = (x[i0] + x[i1] + x[i2]) / 3.0
+    p_prev = (x_prev[i0] + x_prev[i1] + x_prev[i2]) / 3.0
     c = int(0)
     while m != 0:
         if m & 1:
@@ -593,7 +593,8 @@ class Cloth:
         ]
         if spans is None:
             spans, span_rest = np.zeros((0, 2), np.int32), np.zeros(0)
-        self.spans = _DistanceSet(spans, np.asarray(span_rest) * (1.0 + config.span_slack), 0.0, arr, d)
+        span_length = np.asarray(span_rest) * (1.0 + config.span_slack)
+        self.spans = _DistanceSet(spans, span_length, 0.0, arr, d)
         self.anchor = arr(tether_anchor, int)
         self.tether_length = arr(tether_length * (1.0 + config.tether_slack), float)
         self.tris = arr(self.triangles, wp.vec3i)

@@ -439,8 +439,9 @@ def make_gown(config: GownConfig | None = None) -> Gown:
         sheet=sheet,
         region=_regions(grid, nodes),
         grid=nodes.vid.astype(np.int32),
-        side=np.where(nodes.layer == 1, -1, np.where(nodes.layer == 2, 1, np.sign(pattern[:, 0])))
-        .astype(np.int8),
+        side=np.where(
+            nodes.layer == 1, -1, np.where(nodes.layer == 2, 1, np.sign(pattern[:, 0]))
+        ).astype(np.int8),
         h=h,
         loop_radius=radius,
         loop_rest_length=loop_len,

@@ -20,9 +20,7 @@ from .human import Human
 class Hoop:
     """Kinematic capsule chains through the held vertices, moved with the gripper."""
 
-    def __init__(
-        self, human: Human, ring: np.ndarray, radius: float = 0.006
-    ) -> None:
+    def __init__(self, human: Human, ring: np.ndarray, radius: float = 0.006) -> None:
         """``ring`` is the held loop (a closed polyline) in the gown's frame."""
         self.skeleton = dart.dynamics.Skeleton("gripper_hoop")
         joint, body = self.skeleton.createFreeJointAndBodyNodePair()
