@@ -2,6 +2,7 @@
 
 import json
 import os
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,10 @@ from dressbench.evaluation import (
 )
 from dressbench.evaluation import io as atomic
 from dressbench.evaluation import workers as worker_module
+from dressbench.evaluation.report import stage_definitions
+from dressbench.evaluation.rollouts import STAGE_DEPTHS
 from dressbench.evaluation.schema import CURVE_COLUMNS, EPISODE_COLUMNS, LEADERBOARD_COLUMNS
+from dressbench.evaluation.statistics import wilson_ci
 from dressbench.plugins import Plugin
 from dressbench.plugins import registry as plugin_registry
 
@@ -48,7 +52,8 @@ def test_end_to_end_in_a_worker_pool_writes_every_file_with_its_schema(tmp_path)
     assert list(episodes["episode"]) == [0, 1, 2]
     assert all(pd.api.types.is_integer_dtype(episodes[c]) for c in INTS)
     assert all(pd.api.types.is_float_dtype(episodes[c]) for c in FLOATS)
-    assert all(pd.api.types.is_bool_dtype(episodes[c]) for c in ("success", "sim_failure"))
+    booleans = ("hand_in", "success", "dressed", "sim_failure")
+    assert all(pd.api.types.is_bool_dtype(episodes[c]) for c in booleans)
     assert all(pd.api.types.is_string_dtype(episodes[c]) for c in ("robot", "human", "config_id"))
     assert (episodes["horizon"] == 10).all() and (episodes["gown_vertices"] == 600).all()
     assert (episodes["steps"] == 10).all() and (episodes["max_deformation"] >= 1.0).all()
@@ -64,7 +69,11 @@ def test_end_to_end_in_a_worker_pool_writes_every_file_with_its_schema(tmp_path)
     curves = pd.read_csv(tmp_path / "curves.csv")
     assert list(curves.columns) == CURVE_COLUMNS and list(curves["step"]) == list(range(1, 11))
 
-    assert success_definition() in (tmp_path / "leaderboard.md").read_text()
+    for stage in ("hand_in", "success", "dressed"):  # 0 of 3: Wilson, not the bootstrap's [0, 0]
+        assert board.loc[0, [f"{stage}_rate", f"{stage}_ci_low"]].tolist() == [0.0, 0.0]
+        assert board.loc[0, f"{stage}_ci_high"] == pytest.approx(wilson_ci(0, 3)[1])
+    markdown = (tmp_path / "leaderboard.md").read_text()
+    assert all(text in markdown for text in stage_definitions().values())
     meta = json.loads((tmp_path / "run_meta.json").read_text())
     assert meta["versions"]["numpy"] == np.__version__ and "git_commit" in meta
     assert meta["options"] == {"horizon": 10, "gown_vertices": 600}
@@ -165,6 +174,22 @@ def test_bootstrap_ci_is_seeded_and_brackets_the_mean():
     assert (low, high) != bootstrap_ci(values, seed=6)
     assert low < values.mean() < high
     assert high - low == pytest.approx(2 * 1.96 * values.std() / np.sqrt(50), rel=0.2)
+
+
+def test_a_rate_carries_a_wilson_interval_that_never_claims_certainty():
+    assert wilson_ci(0, 100) == pytest.approx((0.0, 0.037), abs=5e-4)
+    assert wilson_ci(100, 100) == pytest.approx((0.963, 1.0), abs=5e-4)
+    low, high = wilson_ci(50, 100)
+    assert low < 0.5 < high and high - 0.5 == pytest.approx(0.5 - low)
+    assert all(np.isnan(wilson_ci(0, 0)))
+
+
+def test_the_stages_of_dressing_are_the_hand_the_elbow_and_half_the_upper_arm():
+    assert STAGE_DEPTHS == {"hand_in": pytest.approx(0.18), "dressed": pytest.approx(0.44 + 0.15)}
+    record = run_episode("fixed", "passive", seed=0, horizon=5, gown_vertices=600)
+    deep = replace(record, final_arm_progress=0.5)
+    assert deep.reached("hand_in") and deep.success and not deep.reached("dressed")
+    assert not replace(deep, sim_failure=True).reached("hand_in")
 
 
 def test_bootstrap_ci_of_constant_data_is_the_value():

@@ -9,7 +9,7 @@ import pandas as pd
 
 from .io import slug, write_csv, write_json, write_png, write_text
 from .plots import curves_figure, scores_figure
-from .rollouts import SUCCESS_DEPTH
+from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import CONFIDENCE, RESAMPLES
 
 
@@ -22,6 +22,18 @@ def success_definition(depth: float = SUCCESS_DEPTH) -> str:
     )
 
 
+def stage_definitions(depth: float = SUCCESS_DEPTH) -> dict[str, str]:
+    """The three stages of dressing each rate counts, in words (docs, tables, run_meta.json)."""
+    return {
+        "hand_in": f"the wrist through the sleeve opening at the episode's end: final arm "
+        f"progress >= {STAGE_DEPTHS['hand_in']:.2f} m (the hand), no simulation failure",
+        "success": success_definition(depth),
+        "dressed": f"the opening at the middle of the upper arm at the end: final arm progress "
+        f">= {STAGE_DEPTHS['dressed']:.2f} m (hand, forearm and half the upper arm), no "
+        f"simulation failure",
+    }
+
+
 def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> str:
     """The leaderboard as a Markdown table under a caption that defines every number in it."""
     settings = board[["horizon", "gown_vertices", "device", "seed"]].drop_duplicates()
@@ -30,31 +42,42 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
         f"base seed {r.seed}"
         for r in settings.itertuples()
     )
+    stages = stage_definitions(success_depth)
     lines = [
         "# dressbench leaderboard",
         "",
         f"Settings: {described}.",
         "",
-        f"**Success**: {success_definition(success_depth)}.",
+        *(f"**{_STAGE_NAMES[stage]}**: {text}." for stage, text in stages.items()),
         "",
         f"Each cell is a robot strategy x a human model over seeded rollouts: mean ± sample std, "
         f"and in brackets the {CONFIDENCE:.0%} percentile-bootstrap confidence interval of the "
-        f"mean ({RESAMPLES:,} resamples). Arm progress is the arm's depth in the sleeve (m); "
-        f"max deformation is the largest triangle area ratio (stretched / rest) of the episode.",
+        f"mean ({RESAMPLES:,} resamples); rates carry their {CONFIDENCE:.0%} Wilson interval. "
+        f"Arm progress is the arm's depth in the sleeve (m); max deformation is the largest "
+        f"triangle area ratio (stretched / rest) of the episode.",
         "",
-        "| robot | human | ablation | episodes | final arm progress (m) "
-        "| max deformation | success rate | sim failures |",
-        "|---|---|---|---:|---:|---:|---:|---:|",
+        "| robot | human | ablation | episodes | final arm progress (m) | max deformation "
+        "| hand in | past the elbow (success) | dressed | sim failures |",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in board.itertuples():
         progress = _summary(r, "final_arm_progress", "{:.3f}")
         deformation = _summary(r, "max_deformation", "{:.2f}")
-        success = f"{r.success_rate:.0%} [{r.success_ci_low:.0%}, {r.success_ci_high:.0%}]"
+        rates = " | ".join(_rate(r, stage) for stage in stages)
         lines.append(
             f"| {r.robot} | {r.human} | {r.ablation} | {r.episodes} | {progress} "
-            f"| {deformation} | {success} | {r.sim_failures} |"
+            f"| {deformation} | {rates} | {r.sim_failures} |"
         )
     return "\n".join(lines) + "\n"
+
+
+_STAGE_NAMES = {"hand_in": "Hand in", "success": "Past the elbow (success)", "dressed": "Dressed"}
+
+
+def _rate(row: Any, stage: str) -> str:
+    """``rate [low, high]`` of one stage of a leaderboard row."""
+    rate, low, high = (getattr(row, f"{stage}_{s}") for s in ("rate", "ci_low", "ci_high"))
+    return f"{rate:.0%} [{low:.0%}, {high:.0%}]"
 
 
 def _summary(row: Any, metric: str, number: str) -> str:

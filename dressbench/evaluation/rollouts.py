@@ -13,6 +13,10 @@ from .identity import difference, same
 # Success depth, m: the arm is through the sleeve opening past the elbow, i.e. the hand (0.18 m)
 # and the forearm (0.26 m) are inside (segment lengths of docs/human.md).
 SUCCESS_DEPTH = 0.44
+# The stages of dressing besides success (Assistive Gym's subtasks), as final arm progress (m):
+# the hand in (the wrist through the opening) and dressed (the opening at the middle of the
+# upper arm, 0.44 + 0.30 / 2).
+STAGE_DEPTHS = {"hand_in": 0.18, "dressed": 0.59}
 
 
 def episode_seed(seed: int, episode: int) -> int:
@@ -52,13 +56,19 @@ class EpisodeRecord:
         """The arm ended through the opening past the elbow, the simulation intact."""
         return is_success(self.final_arm_progress, self.sim_failure, self.success_depth)
 
+    def reached(self, stage: str) -> bool:
+        """The arm ended at least as deep as a stage of ``STAGE_DEPTHS``, the simulation intact."""
+        return is_success(self.final_arm_progress, self.sim_failure, STAGE_DEPTHS[stage])
+
     def scores(self) -> dict[str, Any]:
         """The scalar results, named as the columns of episodes.csv."""
         return {
             "episode_seed": self.episode_seed,
             "final_arm_progress": self.final_arm_progress,
             "max_deformation": self.max_deformation,
+            "hand_in": self.reached("hand_in"),
             "success": self.success,
+            "dressed": self.reached("dressed"),
             "sim_failure": self.sim_failure,
             "return": self.episode_return,
             "steps": self.steps,

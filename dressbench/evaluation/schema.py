@@ -13,7 +13,9 @@ EPISODE_COLUMNS = [
     "episode_seed",
     "final_arm_progress",
     "max_deformation",
+    "hand_in",
     "success",
+    "dressed",
     "sim_failure",
     "return",
     "steps",
@@ -34,13 +36,20 @@ def _summary(metric: str) -> list[str]:
     return [f"{metric}_{stat}" for stat in ("mean", "std", "ci_low", "ci_high")]
 
 
+def _rate(stage: str) -> list[str]:
+    return [f"{stage}_{stat}" for stat in ("rate", "ci_low", "ci_high")]
+
+
+# The rates of the episodes columns that are stages of dressing, shallow to deep.
+STAGE_COLUMNS = ["hand_in", "success", "dressed"]
+
 LEADERBOARD_COLUMNS = [
     *KEY_COLUMNS,
     "episodes",
     *_summary("final_arm_progress"),
     *_summary("max_deformation"),
-    "success_rate",
-    "success_ci_low",
-    "success_ci_high",
+    *_rate("hand_in"),
+    *_rate("success"),
+    *_rate("dressed"),
     "sim_failures",
 ]

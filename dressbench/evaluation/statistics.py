@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from statistics import NormalDist
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from .rollouts import EpisodeRecord
-from .schema import CURVE_COLUMNS, KEY_COLUMNS, LEADERBOARD_COLUMNS
+from .schema import CURVE_COLUMNS, KEY_COLUMNS, LEADERBOARD_COLUMNS, STAGE_COLUMNS
 
 RESAMPLES = 10_000
 CONFIDENCE = 0.95
@@ -37,8 +38,21 @@ def bootstrap_ci(
     return float(low), float(high)
 
 
+def wilson_ci(successes: int, trials: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The Wilson score interval of a rate: unlike the bootstrap, it never claims certainty
+    from finitely many trials (0 of 100 gives [0, 3.7%] at 95%, not [0, 0])."""
+    if trials == 0:
+        return float("nan"), float("nan")
+    z = float(NormalDist().inv_cdf(0.5 + confidence / 2.0))
+    p = successes / trials
+    centre = (p + z * z / (2 * trials)) / (1 + z * z / trials)
+    half = z * np.sqrt(p * (1 - p) / trials + z * z / (4 * trials * trials)) / (1 + z * z / trials)
+    return float(max(0.0, centre - half)), float(min(1.0, centre + half))
+
+
 def leaderboard_table(episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
-    """One row per cell of an episodes table: mean, std, bootstrap CI of the final scores."""
+    """One row per cell of an episodes table: mean, std and bootstrap CI of the final scores,
+    and each stage's rate with its Wilson interval."""
     rows = []
     for key, group in episodes.groupby(KEY_COLUMNS, sort=False):
         row: dict[str, Any] = dict(zip(KEY_COLUMNS, key, strict=True))
@@ -52,9 +66,10 @@ def leaderboard_table(episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
                 f"{metric}_ci_low": low,
                 f"{metric}_ci_high": high,
             }
-        success = group["success"].astype(float)
-        row["success_rate"] = success.mean()
-        row["success_ci_low"], row["success_ci_high"] = bootstrap_ci(success, seed)
+        for stage in STAGE_COLUMNS:
+            reached = int(group[stage].astype(bool).sum())
+            row[f"{stage}_rate"] = reached / len(group)
+            row[f"{stage}_ci_low"], row[f"{stage}_ci_high"] = wilson_ci(reached, len(group))
         row["sim_failures"] = int(group["sim_failure"].sum())
         rows.append(row)
     return pd.DataFrame(rows, columns=LEADERBOARD_COLUMNS)
