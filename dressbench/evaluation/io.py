@@ -1,7 +1,8 @@
 """Atomic file writes: a temp file in the target's folder, flushed, then ``os.replace``.
 
 A reader (or a resumed run) therefore sees either the previous file or the new one, never a
-half-written one, even if the process dies mid-write.
+half-written one, even if the process dies mid-write. Files get the permissions of the umask
+(``0o666 & ~umask``), as ``open`` would give them, not ``mkstemp``'s 0600.
 """
 
 from __future__ import annotations
@@ -9,7 +10,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import tempfile
 from dataclasses import asdict, is_dataclass
 from io import BytesIO
 from pathlib import Path
@@ -24,7 +24,7 @@ def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Replace ``path`` by ``data`` atomically; on error the old file stays, no temp remains."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = _create_temp(path)
     try:
         with os.fdopen(fd, "wb") as file:
             file.write(data)
@@ -34,6 +34,22 @@ def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def _create_temp(path: Path) -> tuple[int, Path]:
+    """A new, empty temp file beside ``path``, open for writing, with mode ``0o666 & ~umask``.
+
+    ``os.open`` with O_EXCL and 0o666 lets the kernel apply the umask (``mkstemp`` would force
+    0600, and reading the umask means setting it, which races with other threads).
+    """
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(100):
+        tmp = path.with_name(f".{path.name}.{os.urandom(6).hex()}.tmp")
+        try:
+            return os.open(tmp, flags, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary file name beside {path}")
 
 
 def write_text(path: str | os.PathLike, text: str) -> None:
