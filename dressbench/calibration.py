@@ -25,16 +25,9 @@ class Measurement:
     forces: tuple[float, ...]
 
 
-def outstretched(scene: Scene) -> np.ndarray:
-    """The rest pose with the right arm straight ahead at shoulder height."""
-    q = scene.human.rest.copy()
-    q[8:12] = [0.0, 0.0, np.pi / 2, 0.0]  # shoulder elevation, middle axis, swing; elbow
-    return q
-
-
 def sleeve_over_arm(scene: Scene, seconds: float) -> tuple[float, float]:
     """The gripper slides the sleeve 0.7 m over a still, outstretched arm in ``seconds``."""
-    q = outstretched(scene)
+    q = scene.human.outstretched()
     start, end = RIGHT_SHOULDER + [1.05, 0.0, 0.0], RIGHT_SHOULDER + [0.35, 0.0, 0.0]
     scene.reset(np.concatenate([start, FRONT]), human_q=q)
     hold = scene.human.action_for(q)

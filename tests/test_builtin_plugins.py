@@ -9,7 +9,7 @@ from dressbench.plugins.robots import RIGHT_SHOULDER
 from dressbench.testing import check_human_plugin, check_robot_plugin
 
 ROBOTS = ["fixed", "front_linear", "side_linear"]
-HUMANS = ["passive", "random", "scripted"]
+HUMANS = ["passive", "random", "reach", "scripted"]
 
 
 def test_the_builtins_register_through_entry_points():
@@ -79,3 +79,25 @@ def test_side_linear_turns_the_sleeve_away_from_the_approach():
 def test_unknown_names_suggest_the_nearest():
     with pytest.raises(plugins.UnknownPluginError, match="did you mean 'front_linear'"):
         dressbench.make_env("front_liner")
+
+
+def test_reach_holds_the_arm_straight_out_ahead_whatever_it_sees():
+    """The `reach` baseline: a still, outstretched arm, so a leaderboard shows what the robot
+    strategy achieves on its own."""
+    env = dressbench.make_human_env("fixed", horizon=40, gown_vertices=600)
+    human = plugins.load_human("reach")
+    observation, _ = env.reset(seed=0)
+    first = human.act(observation)
+    for _ in range(40):
+        action = human.act(observation)
+        np.testing.assert_array_equal(action, first)
+        observation, *_ = env.step(action)
+    tip, wrist, elbow, shoulder = env.env.scene.arm_chain()
+    arm = tip - shoulder
+    assert arm[0] > 0.6 and abs(arm[2]) < 0.1  # ahead at shoulder height
+    bend = np.dot(_unit(wrist - elbow), _unit(elbow - shoulder))
+    assert bend > 0.98  # the elbow straight
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)

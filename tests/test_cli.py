@@ -23,7 +23,7 @@ def test_bench_prints_one_json_object_per_measurement():
 def test_plugins_lists_every_plugin_with_its_package_and_status():
     result = CliRunner().invoke(main, ["plugins"])
     assert result.exit_code == 0, result.output
-    for name in ("fixed", "front_linear", "side_linear", "passive", "random", "scripted"):
+    for name in ("fixed", "front_linear", "side_linear", "passive", "random", "reach", "scripted"):
         line = next(row for row in result.output.splitlines() if f" {name} " in row)
         assert "dressbench" in line and line.rstrip().endswith("ok")
 

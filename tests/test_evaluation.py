@@ -34,7 +34,7 @@ from dressbench.plugins import registry as plugin_registry
 TINY = {"horizon": 10, "gown_vertices": 600, "progress": False}  # fast tests
 SUMMARY_FILES = ["episodes.csv", "curves.csv", "leaderboard.csv", "leaderboard.md"]
 ROBOTS = ["fixed", "front_linear", "side_linear"]
-BASELINES = ["passive", "random", "scripted"]
+BASELINES = ["passive", "random", "reach", "scripted"]
 INTS = ["horizon", "gown_vertices", "seed", "episode", "episode_seed", "steps"]
 FLOATS = ["final_arm_progress", "max_deformation", "return"]
 

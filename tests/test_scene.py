@@ -6,7 +6,6 @@ import pytest
 
 from dressbench import metrics
 from dressbench.bench import reach_action
-from dressbench.calibration import outstretched
 from dressbench.plugins.robots import RIGHT_SHOULDER as SHOULDER
 from dressbench.scene.geometry import transform_points
 from dressbench.scene.world import Scene
@@ -55,7 +54,7 @@ def test_the_gown_hanging_from_a_still_gripper_settles(scene):
 
 
 def test_the_sleeve_slides_over_an_outstretched_arm(scene):
-    q = outstretched(scene)
+    q = scene.human.outstretched()
     scene.reset(pose(SHOULDER + [1.05, 0.0, 0.0]), human_q=q)
     hold = scene.human.action_for(q)
     start, end = SHOULDER + [1.05, 0.0, 0.0], SHOULDER + [0.35, 0.0, 0.0]

@@ -150,7 +150,7 @@ def leaderboard_cells(
     """Every ok robot strategy × every ok human meant for it (trained for it, or generic).
 
     A human is meant for a robot when its ``robot`` attribute names it; humans whose ``robot`` is
-    None (the built-in baselines passive, random, scripted) are generic and face every robot.
+    None (the built-in baselines passive, random, reach, scripted) are generic and face every robot.
     ``robots`` / ``humans`` restrict the names; broken plugins are skipped with a warning.
     """
     robot_names = _usable(robot_plugins(), robots, "robot")

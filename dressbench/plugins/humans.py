@@ -1,4 +1,4 @@
-"""Built-in human policies: passive, random, and a scripted non-learned baseline."""
+"""Built-in human policies: passive, random, reach, and a scripted non-learned baseline."""
 
 from __future__ import annotations
 
@@ -38,6 +38,27 @@ class Random:
 
     def act(self, observation: np.ndarray) -> np.ndarray:
         return self._rng.uniform(-1.0, 1.0, 11)
+
+
+class Reach:
+    """Holds the right arm straight out ahead at shoulder height, whatever it perceives: what a
+    robot strategy achieves on its own, by bringing the opening to a still, outstretched arm."""
+
+    api_version: ClassVar[int] = 1
+    robot: str | None = None
+    ablation: str = "complete"
+
+    def __init__(self) -> None:
+        from ..scene.human import Human  # the body model, for its joint ranges only
+
+        body = Human()
+        self._action = body.action_for(body.outstretched())
+
+    def reset(self, seed: int | None = None) -> None:
+        pass
+
+    def act(self, observation: np.ndarray) -> np.ndarray:
+        return self._action.copy()
 
 
 class Scripted:

@@ -323,6 +323,12 @@ class Human:
         rest, lo, hi = self.rest[i], self.lower[i], self.upper[i]
         self.target[i] = np.where(a >= 0.0, rest + a * (hi - rest), rest + a * (rest - lo))
 
+    def outstretched(self) -> np.ndarray:
+        """The rest pose with the right arm straight ahead at shoulder height, elbow straight."""
+        q = self.rest.copy()
+        q[8:12] = [0.0, 0.0, np.pi / 2, 0.0]  # shoulder elevation, middle axis, swing; elbow
+        return q
+
     def action_for(self, q_target: np.ndarray) -> np.ndarray:
         """The PD action whose targets are ``q_target`` on the actuated DOFs (clipped to range)."""
         i = self.actuated_index
