@@ -16,6 +16,7 @@ import json
 import math
 import os
 import re
+import stat
 from collections.abc import Callable
 from itertools import pairwise
 from pathlib import Path
@@ -36,6 +37,11 @@ ACTIVATION = "tanh"
 ACTION_SIZE = 11  # the human's action, see plugins/protocols.py
 JSON_SUFFIX = ".json"
 TENSORS_SUFFIX = ".safetensors"
+# Largest files read, checked with os.stat before reading and enforced by a bounded read, so
+# that a link to an endless or enormous file never makes a listing read until memory runs out.
+# A 64x64 actor is ~100 kB of tensors and ~5 kB of JSON; these limits are far above any MLP.
+MAX_TENSORS_BYTES = 256 * 2**20
+MAX_JSON_BYTES = 16 * 2**20
 # The JSON keys the format owns; every other top-level key is the caller's metadata.
 RESERVED_KEYS = ("format", "format_version", "architecture", "obs_normalization", "tensors")
 
@@ -134,6 +140,9 @@ def save_policy(
     tensors |= _export_normalization(obs_rms, architecture["obs_dim"], clip_obs, epsilon)
     _check_metadata(metadata)
     blob = safetensors.numpy.save(tensors)
+    if len(blob) > MAX_TENSORS_BYTES:
+        limit = MAX_TENSORS_BYTES // 2**20
+        raise ValueError(f"cannot export: {len(blob)} bytes of tensors, more than {limit} MiB")
     document = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -287,19 +296,65 @@ def _fail(path: Path, reason: str) -> PolicyFileError:
     return PolicyFileError(f"{path}: {reason}")
 
 
-def _read_bytes(path: Path, partner: Path) -> bytes:
-    """The file's content, or an error saying it is missing or unreadable."""
+def _read_bytes(path: Path, partner: Path, limit: int, size: int | None = None) -> bytes:
+    """The file's content, or an error saying it is missing, unreadable, not a regular file,
+    larger than ``limit`` bytes or (when ``size`` is given) not ``size`` bytes long.
+
+    The size is checked with ``os.stat`` before anything is read, and the read itself stops
+    after ``limit + 1`` bytes, so a link to ``/dev/zero`` or a growing file costs nothing.
+    """
     try:
-        return path.read_bytes()
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            raise _fail(path, f"not a regular file ({_file_kind(info.st_mode)})")
+        if info.st_size > limit:
+            raise _fail(path, _too_large(info.st_size, limit))
+        if size is not None and info.st_size != size:
+            raise _fail(path, _wrong_size(info.st_size, size, partner))
+        with open(path, "rb") as file:
+            data = file.read(limit + 1)
     except FileNotFoundError:
         raise _fail(path, f"missing (a policy is a pair: it goes with {partner.name})") from None
     except OSError as exc:
         raise _fail(path, f"cannot be read: {exc.strerror}") from None
+    if len(data) > limit:
+        raise _fail(path, _too_large(len(data), limit, "at least "))
+    return data
+
+
+def _too_large(size: int, limit: int, qualifier: str = "") -> str:
+    """Why a file is refused for its size."""
+    return (
+        f"{qualifier}{size} bytes, more than the {limit // 2**20} MiB a policy file may have "
+        "(not read)"
+    )
+
+
+def _wrong_size(size: int, expected: int, json_path: Path) -> str:
+    """Why a tensors file does not go with its JSON."""
+    return (
+        f"{size} bytes where {json_path.name} expects {expected} "
+        "(truncated, or an interrupted save)"
+    )
+
+
+def _file_kind(mode: int) -> str:
+    """What a non-regular file is, in words."""
+    for test, kind in (
+        (stat.S_ISDIR, "a folder"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a pipe"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
+        if test(mode):
+            return kind
+    return "not a plain file"
 
 
 def _read_document(json_path: Path) -> dict[str, Any]:
     """The parsed and checked JSON of a policy."""
-    text = _read_bytes(json_path, policy_paths(json_path)[0])
+    text = _read_bytes(json_path, policy_paths(json_path)[0], MAX_JSON_BYTES)
     try:
         document = json.loads(text)
     except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
@@ -345,13 +400,9 @@ def _read_tensors(
     tensors_path: Path, json_path: Path, expected: dict[str, Any]
 ) -> dict[str, np.ndarray]:
     """The tensors, after checking their size and sha256 against the JSON."""
-    blob = _read_bytes(tensors_path, json_path)
-    if len(blob) != expected["size"]:
-        raise _fail(
-            tensors_path,
-            f"{len(blob)} bytes where {json_path.name} expects {expected['size']} "
-            "(truncated, or an interrupted save)",
-        )
+    blob = _read_bytes(tensors_path, json_path, MAX_TENSORS_BYTES, expected["size"])
+    if len(blob) != expected["size"]:  # changed since os.stat
+        raise _fail(tensors_path, _wrong_size(len(blob), expected["size"], json_path))
     if hashlib.sha256(blob).hexdigest() != expected["sha256"]:
         raise _fail(
             tensors_path,
@@ -467,7 +518,7 @@ def _looks_like_policy(json_path: Path) -> bool:
     if policy_paths(json_path)[0].is_file():
         return True
     try:
-        document = json.loads(json_path.read_bytes())
-    except (OSError, ValueError):
+        document = json.loads(_read_bytes(json_path, json_path, MAX_JSON_BYTES))
+    except ValueError:  # PolicyFileError, JSONDecodeError, UnicodeDecodeError
         return False
     return isinstance(document, dict) and document.get("format") == FORMAT
