@@ -32,7 +32,10 @@ def make_env(
     from .config import EnvConfig
     from .env import DressingEnv
 
-    return DressingEnv(_robot(robot), EnvConfig.build(config, **options), render_mode)
+    name = robot if isinstance(robot, str) else None
+    return DressingEnv(
+        _robot(robot), EnvConfig.build(config, **options), render_mode, robot_name=name
+    )
 
 
 def make_human_env(

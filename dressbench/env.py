@@ -25,6 +25,7 @@ from .state import DressingState, measure
 HUMAN, ROBOT = "human", "robot"
 ROBOT_OBS_SIZE = 22
 WORKSPACE = (np.array([-0.3, -1.2, -0.5]), np.array([1.3, 0.8, 1.3]))  # gripper bounds, m
+QUATERNION_TOLERANCE = 1e-3  # how far from 1 the norm of a start pose's quaternion may be
 FAILURE_STEP_REWARD = -17.0  # per remaining step: fingertip 1 m off, deformation maxed
 
 
@@ -34,12 +35,23 @@ class DressingEnv(ParallelEnv):
     metadata = {"name": "dressbench_v0", "render_modes": ["rgb_array"], "render_fps": 25}
 
     def __init__(
-        self, robot: Any, config: EnvConfig | None = None, render_mode: str | None = None
+        self,
+        robot: Any,
+        config: EnvConfig | None = None,
+        render_mode: str | None = None,
+        *,
+        robot_name: str | None = None,
     ) -> None:
+        if not all(callable(getattr(robot, method, None)) for method in ("reset", "act")):
+            raise TypeError(
+                "the robot must be a robot strategy: a plugin name such as 'fixed', or an "
+                f"object with reset(rng) and act(observation); got {robot!r}"
+            )
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"unknown render_mode {render_mode!r}: use None or 'rgb_array'")
         self.config = config or EnvConfig()
         self.robot_strategy = robot
+        self.robot_name = robot_name  # the plugin name it was loaded as, if any: for messages
         self.render_mode = render_mode
         self.possible_agents = [ROBOT, HUMAN]
         self.agents: list[str] = []
@@ -63,10 +75,11 @@ class DressingEnv(ParallelEnv):
     def reset(self, seed: int | None = None, options: dict | None = None):
         if seed is not None:
             self._rng = np.random.default_rng(seed)
-        pose = np.asarray(self.robot_strategy.reset(self._rng), dtype=float)
-        if pose.shape != (7,) or not np.isfinite(pose).all():
-            raise ValueError(f"robot strategy returned a bad initial pose {pose!r}")
-        self.scene.reset(pose)
+        pose = self.robot_strategy.reset(self._rng)
+        problem = start_pose_problem(pose)
+        if problem:  # e.g. a zero quaternion would give NaN observations, scored as a failure
+            raise ValueError(f"{describe_robot(self.robot_strategy, self.robot_name)}: {problem}")
+        self.scene.reset(np.asarray(pose, dtype=float))
         self.agents = list(self.possible_agents)
         self._t = 0
         self._gripper_velocity = np.zeros(3)
@@ -193,6 +206,80 @@ class DressingEnv(ParallelEnv):
     def state(self) -> np.ndarray:
         """The full cloth state (vertex positions), for agents that want more than O."""
         return self.scene.cloth_positions()
+
+
+def start_pose_problem(pose: Any) -> str | None:
+    """What is wrong with a start pose as a robot strategy's ``reset`` returned it, or None.
+
+    A pose is ``(x, y, z, qx, qy, qz, qw)``: shape (7,), finite, a unit quaternion (norm within
+    ``QUATERNION_TOLERANCE`` of 1; a zero quaternion is no rotation) and a position inside
+    ``WORKSPACE``, absolute in the human frame.
+    """
+    try:
+        p = np.asarray(pose, dtype=float)
+    except (TypeError, ValueError):
+        return f"reset returned {_cut(pose)}, expected a pose (x, y, z, qx, qy, qz, qw)"
+    if p.shape != (7,):
+        return (
+            f"reset returned a pose of shape {p.shape}, expected (7,): "
+            "(x, y, z, qx, qy, qz, qw) in the human frame"
+        )
+    if not np.isfinite(p).all():
+        return f"reset returned a non-finite pose {_cut(p.tolist())}"
+    norm = float(np.linalg.norm(p[3:]))
+    if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+        return (
+            f"reset returned the quaternion (qx, qy, qz, qw) = {_cut(p[3:].tolist())} of norm "
+            f"{norm:.4g}, expected a unit quaternion (norm 1 +- {QUATERNION_TOLERANCE:g})"
+        )
+    low, high = WORKSPACE
+    if ((p[:3] < low) | (p[:3] > high)).any():
+        bounds = zip("xyz", low, high, strict=True)
+        box = ", ".join(f"{axis} in [{a:g}, {b:g}]" for axis, a, b in bounds)
+        return (
+            f"reset returned the position {_cut(p[:3].tolist())}, outside the workspace "
+            f"({box} m; start poses are absolute, in the human frame)"
+        )
+    return None
+
+
+def robot_action_problem(action: Any) -> str | None:
+    """What is wrong with a robot strategy's ``act`` output, or None: it must be 3 finite
+    numbers (values outside [-1, 1] are clipped by the step, not refused)."""
+    try:
+        a = np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        return f"act returned {_cut(action)}, expected 3 numbers"
+    if a.shape != (3,):
+        return (
+            f"act returned an action of shape {a.shape}, expected (3,): the gripper's velocity "
+            "in [-1, 1] (times ROBOT_MAX_SPEED m/s)"
+        )
+    if not np.isfinite(a).all():
+        return f"act returned a non-finite action {_cut(a.tolist())}"
+    return None
+
+
+def describe_robot(robot: Any, name: str | None = None) -> str:
+    """A robot strategy in a message: ``"robot strategy 'NAME' from PACKAGE VERSION"`` for a
+    plugin loaded by name, else its class and the distribution that provides its module."""
+    if name is not None:
+        from .plugins import robot_plugins
+
+        plugin = robot_plugins().get(name)
+        return f"robot strategy {name!r}" + (f" from {plugin.origin}" if plugin else "")
+    import importlib.metadata
+
+    cls = type(robot)
+    packages = importlib.metadata.packages_distributions().get(cls.__module__.split(".")[0])
+    where = f"robot strategy {cls.__module__}.{cls.__qualname__}"
+    return where + (f" from {packages[0]}" if packages else "")
+
+
+def _cut(value: Any, width: int = 80) -> str:
+    """A value in a one-line message, cut to ``width`` characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= width else text[: width - 3] + "..."
 
 
 def _checked(actions: dict[str, np.ndarray], agent: str, size: int) -> tuple[np.ndarray, int]:

@@ -7,7 +7,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from .env import HUMAN, ROBOT, DressingEnv
+from .env import HUMAN, ROBOT, DressingEnv, describe_robot, robot_action_problem
 
 
 class HumanEnv(gym.Env):
@@ -29,7 +29,12 @@ class HumanEnv(gym.Env):
         return observations[HUMAN], infos[HUMAN]
 
     def step(self, action: np.ndarray):
-        robot_action = np.asarray(self.env.robot_strategy.act(self._robot_obs), dtype=float)
+        strategy = self.env.robot_strategy
+        robot_action = strategy.act(self._robot_obs)
+        problem = robot_action_problem(robot_action)
+        if problem:
+            raise ValueError(f"{describe_robot(strategy, self.env.robot_name)}: {problem}")
+        robot_action = np.asarray(robot_action, dtype=float)
         observations, rewards, terminations, truncations, infos = self.env.step(
             {HUMAN: action, ROBOT: robot_action}
         )

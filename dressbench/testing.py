@@ -21,8 +21,10 @@ CHECK_VERTICES = 600  # a coarse gown keeps the check fast
 
 
 def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
-    """Seeded reset poses, finite unit-quaternion poses, (3,) finite actions, a running env."""
+    """Seeded reset poses, finite unit-quaternion poses inside the workspace, (3,) finite
+    actions, a running env."""
     from . import make_env
+    from .env import start_pose_problem
 
     name = robot if isinstance(robot, str) else type(robot).__name__
     strategy = load_robot(robot) if isinstance(robot, str) else robot
@@ -35,6 +37,8 @@ def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
             abs(np.linalg.norm(pose[3:]) - 1.0) < 1e-6,
             f"{name}.reset's quaternion (qx, qy, qz, qw) must have unit length, got {pose[3:]}",
         )
+        problem = start_pose_problem(pose)  # what the env refuses, the workspace among it
+        _require(problem is None, f"{name}.{problem}")
     _require(
         np.array_equal(poses[0], poses[1]),
         f"{name}.reset must draw only from the rng it is given: one seed gave two poses",

@@ -10,12 +10,14 @@ import os
 import stat
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
 import safetensors.numpy
 
+import dressbench
 from dressbench import plugins
 from dressbench.evaluation import io as atomic
 from dressbench.observation import ABLATIONS, observation_size
@@ -52,16 +54,16 @@ def write_policy(folder: Path, name: str, *, ablation="complete", obs_dim=None, 
         "obs_var": np.ones(obs_dim),
     }
     blob = safetensors.numpy.save(tensors)
-    document = {
+    document: dict = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
-        "architecture": {"hidden_sizes": [4], "activation": "tanh", "obs_dim": obs_dim,
-                         "act_dim": 11},  # fmt: skip
+        "architecture": {"hidden_sizes": [4], "activation": "tanh", "obs_dim": obs_dim},
         "obs_normalization": {"clip_obs": 10.0, "epsilon": 1e-8},
         "tensors": {"sha256": hashlib.sha256(blob).hexdigest(), "size": len(blob)},
         "robot": robot,
         "ablation": ablation,
     }
+    document["architecture"]["act_dim"] = 11
     folder.mkdir(parents=True, exist_ok=True)
     (folder / f"{name}.safetensors").write_bytes(blob)
     (folder / f"{name}.json").write_text(json.dumps(document))
@@ -116,3 +118,143 @@ def test_a_policy_file_over_the_size_limit_is_refused_before_it_is_read(policies
     monkeypatch.setattr(Path, "read_bytes", lambda self: reads.append(self))
     assert policy_file.list_policies(policies) == [path]  # listed: its tensors sit beside it
     assert reads == []
+
+
+# --- fake plugin distributions -------------------------------------------------------------------
+
+ROBOTS = f"[{plugins.ROBOT_GROUP}]"  # entry_points.txt section headers
+HUMANS = f"[{plugins.HUMAN_GROUP}]"
+
+ROBOT_MODULE = """
+import numpy as np
+
+class Robot:
+    api_version = 1
+    pose = [0.55, -0.19, 0.45, 0.0, 0.0, 0.0, 1.0]
+    action = [0.0, 0.0, 0.0]
+
+    def reset(self, rng):
+        return np.array(self.pose)
+
+    def act(self, observation):
+        return np.array(self.action)
+
+class SixPose(Robot):
+    pose = [0.55, -0.19, 0.45, 0.0, 0.0, 1.0]
+
+class ZeroQuaternion(Robot):
+    pose = [0.55, -0.19, 0.45, 0.0, 0.0, 0.0, 0.0]
+
+class Outside(Robot):
+    pose = [0.55, -0.19, 2.45, 0.0, 0.0, 0.0, 1.0]
+
+class TwoAction(Robot):
+    action = [0.0, 1.0]
+"""
+
+HUMAN_MODULE = """
+import numpy as np
+
+class Human:
+    api_version = 1
+    robot = None
+    ablation = "complete"
+
+    def reset(self, seed=None):
+        pass
+
+    def act(self, observation):
+        return np.zeros(11)
+
+class Ten(Human):
+    def act(self, observation):
+        return np.zeros(10)
+"""
+
+BAD_ROBOTS = {
+    "six_pose": "acme_robots:SixPose",
+    "zero_quat": "acme_robots:ZeroQuaternion",
+    "outside": "acme_robots:Outside",
+    "two_action": "acme_robots:TwoAction",
+}
+
+
+@pytest.fixture
+def site(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
+    """A fresh folder on ``sys.path`` for fake distributions; their modules are forgotten after."""
+    root = tmp_path / "site"
+    root.mkdir()
+    monkeypatch.syspath_prepend(str(root))
+    plugins.refresh()
+    yield root
+    for name, module in list(sys.modules.items()):
+        if str(getattr(module, "__file__", None) or "").startswith(str(root)):
+            del sys.modules[name]
+    plugins.refresh()
+
+
+def install(
+    root: Path, package: str, version: str, entry_points: dict[str, dict[str, str]], **modules: str
+) -> None:
+    """Write a fake distribution: metadata, ``entry_points.txt`` and top-level modules."""
+    info = root / f"{package.replace('-', '_')}-{version}.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {package}\nVersion: {version}\n")
+    sections = [
+        "\n".join([section, *(f"{name} = {value}" for name, value in eps.items())])
+        for section, eps in entry_points.items()
+    ]
+    (info / "entry_points.txt").write_text("\n\n".join(sections) + "\n")
+    for module, source in modules.items():
+        (root / f"{module}.py").write_text(source)
+
+
+@pytest.fixture
+def acme(site):
+    """acme-robots 1.0: one good robot and the bad ones of BAD_ROBOTS; a good and a bad human."""
+    robots = {"good_arm": "acme_robots:Robot", **BAD_ROBOTS}
+    humans = {"good_person": "acme_humans:Human", "ten_person": "acme_humans:Ten"}
+    install(site, "acme-robots", "1.0", {ROBOTS: robots, HUMANS: humans},
+            acme_robots=ROBOT_MODULE, acme_humans=HUMAN_MODULE)  # fmt: skip
+    return site
+
+
+# --- what robot strategies return is checked -----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "reason"),
+    [
+        ("six_pose", r"reset returned a pose of shape \(6,\), expected \(7,\)"),
+        ("zero_quat", r"quaternion \(qx, qy, qz, qw\) = \[0.0, 0.0, 0.0, 0.0\] of norm 0, "
+                      r"expected a unit quaternion"),
+        ("outside", r"position \[0.55, -0.19, 2.45\], outside the workspace \(x in \[-0.3, 1.3\]"),
+    ],
+)  # fmt: skip
+def test_a_bad_start_pose_is_an_error_naming_the_plugin_not_a_scored_failure(acme, name, reason):
+    env = dressbench.make_env(name, gown_vertices=300, horizon=3)
+    with pytest.raises(ValueError, match=reason) as caught:
+        env.reset(seed=0)
+    message = str(caught.value)
+    assert message.startswith(f"robot strategy {name!r} from acme-robots 1.0: reset returned ")
+    assert "\n" not in message
+
+
+def test_a_start_pose_within_the_tolerance_of_a_unit_quaternion_is_accepted(acme):
+    env = dressbench.make_env("good_arm", gown_vertices=300, horizon=3)
+    env.robot_strategy.pose = [0.55, -0.19, 0.45, 0.0, 0.0, 0.0, 1.0005]
+    observations, _ = env.reset(seed=0)
+    assert np.isfinite(observations["human"]).all()
+
+
+def test_a_robot_action_of_the_wrong_shape_names_the_plugin(acme):
+    env = dressbench.make_human_env("two_action", gown_vertices=300, horizon=3)
+    env.reset(seed=0)
+    reason = r"'two_action' from acme-robots 1.0: act returned an action of shape \(2,\), expected"
+    with pytest.raises(ValueError, match=f"^robot strategy {reason}"):
+        env.step(np.zeros(11))
+
+
+def test_make_env_without_a_robot_fails_at_construction():
+    with pytest.raises(TypeError, match="must be a robot strategy: a plugin name such as 'fixed'"):
+        dressbench.make_env(None)
