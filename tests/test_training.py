@@ -34,6 +34,11 @@ def policies_on_path(tmp_path, monkeypatch):
     plugins.refresh()
 
 
+def test_timesteps_are_honoured_as_given_not_rounded_up_to_a_whole_update(tmp_path):
+    path = train(tiny_config(tmp_path, timesteps=200, name="exact"), progress=False)
+    assert json.loads(path.read_text())["steps"] == 200  # updates are of 128 samples
+
+
 def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, policies_on_path):
     path = train(tiny_config(tmp_path, timesteps=256, name="tiny"), progress=False)
     meta = json.loads(path.read_text())

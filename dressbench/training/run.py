@@ -44,8 +44,10 @@ class TrainingRun:
             if remaining:
                 self._archive_progress(done)
                 model.set_logger(configure(str(self.folder / "logs"), ["csv", "tensorboard"]))
-                callbacks = CallbackList([_Checkpoints(self), _Progress(done, self.config.timesteps,
-                                                                         progress)])  # fmt: skip
+                total = self.config.timesteps
+                callbacks = CallbackList(
+                    [_Checkpoints(self), _StopAt(total), _Progress(done, total, progress)]
+                )
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
             write_learning_summary(self.folder, self.folder, until=int(model.num_timesteps))
@@ -175,6 +177,19 @@ class _Checkpoints(BaseCallback):
             self.run.save_checkpoint(self.model)
             self.last = self.num_timesteps
         return True
+
+
+class _StopAt(BaseCallback):
+    """End training at ``timesteps`` as given: SB3 alone rounds up to whole rollouts."""
+
+    def __init__(self, timesteps: int) -> None:
+        super().__init__()
+        self.timesteps = timesteps
+
+    def _on_step(self) -> bool:
+        buffer = self.model.rollout_buffer  # this step is added to it after the callbacks
+        completes_a_rollout = buffer.pos + 1 == buffer.buffer_size
+        return self.num_timesteps < self.timesteps or completes_a_rollout
 
 
 class _Progress(BaseCallback):
