@@ -73,13 +73,23 @@ class DressingEnv(ParallelEnv):
 
     # ----------------------------------------------------------------------------- episode
     def reset(self, seed: int | None = None, options: dict | None = None):
+        """Start an episode. ``options["human_start"]``, if given, is a callable that receives
+        the reset scene (the gown held where the robot strategy put it) and returns the human's
+        start pose, or None for the rest pose: how a training curriculum starts the hand near
+        the opening."""
         if seed is not None:
             self._rng = np.random.default_rng(seed)
         pose = self.robot_strategy.reset(self._rng)
         problem = start_pose_problem(pose)
         if problem:  # e.g. a zero quaternion would give NaN observations, scored as a failure
             raise ValueError(f"{describe_robot(self.robot_strategy, self.robot_name)}: {problem}")
-        self.scene.reset(np.asarray(pose, dtype=float))
+        pose = np.asarray(pose, dtype=float)
+        self.scene.reset(pose)
+        human_start = (options or {}).get("human_start")
+        if human_start is not None:
+            q = human_start(self.scene)
+            if q is not None:
+                self.scene.reset(pose, human_q=q)
         self.agents = list(self.possible_agents)
         self._t = 0
         self._gripper_velocity = np.zeros(3)
