@@ -11,12 +11,21 @@ class _Commands(click.Group):
     """Bad input (an unknown plugin, a broken policy file, a bad value) ends in one line."""
 
     def invoke(self, ctx: click.Context):
+        import warnings
+
         from .plugins.registry import PluginError
 
-        try:
-            return super().invoke(ctx)
-        except (PluginError, ValueError) as error:
-            raise click.ClickException(str(error)) from error
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning  # e.g. a skipped plugin: one line each
+            try:
+                return super().invoke(ctx)
+            except (PluginError, ValueError) as error:
+                raise click.ClickException(str(error)) from error
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Show a warning as ``Warning: message`` on stderr, without its source line."""
+    click.echo(f"Warning: {message}", err=True)
 
 
 @click.group(cls=_Commands)

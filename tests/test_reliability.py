@@ -16,9 +16,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import safetensors.numpy
+from click.testing import CliRunner
 
 import dressbench
 from dressbench import plugins
+from dressbench.cli import main
 from dressbench.evaluation import io as atomic
 from dressbench.observation import ABLATIONS, observation_size
 from dressbench.training import policy_file
@@ -258,3 +260,78 @@ def test_a_robot_action_of_the_wrong_shape_names_the_plugin(acme):
 def test_make_env_without_a_robot_fails_at_construction():
     with pytest.raises(TypeError, match="must be a robot strategy: a plugin name such as 'fixed'"):
         dressbench.make_env(None)
+
+
+# --- plugins and policies are checked before a leaderboard starts --------------------------------
+
+TINY = {"horizon": 3, "gown_vertices": 300, "progress": False}
+SKIPPED = {
+    "six_pose": "robot plugin 'six_pose' from acme-robots 1.0: reset returned a pose of shape (6,)",
+    "zero_quat": "robot plugin 'zero_quat' from acme-robots 1.0: reset returned the quaternion",
+    "outside": "robot plugin 'outside' from acme-robots 1.0: reset returned the position",
+    "two_action": "robot plugin 'two_action' from acme-robots 1.0: act returned an action of "
+    "shape (2,)",
+    "ten_person": "human plugin 'ten_person' from acme-robots 1.0: act returned an action of "
+    "shape (10,), expected (11,)",
+    "sideways": "human plugin 'sideways' from policy file {policies}/sideways.json: it declares "
+    "ablation 'sideways'; expected one of complete, no_haptics, no_task",
+    "misfit": "human plugin 'misfit' from policy file {policies}/misfit.json: its obs_dim is 163, "
+    "but ablation 'no_task' observes 160 numbers",
+}
+
+
+@pytest.fixture
+def mixed(acme, policies):
+    """The acme plugins, and three policy files for good_arm: one good, two with bad metadata."""
+    write_policy(policies, "trained", robot="good_arm")
+    write_policy(policies, "sideways", ablation="sideways", robot="good_arm")
+    write_policy(policies, "misfit", ablation="no_task", obs_dim=163, robot="good_arm")
+    return policies
+
+
+def test_a_leaderboard_skips_plugins_that_fail_their_check_and_scores_the_rest(
+    mixed, tmp_path, recwarn
+):
+    humans = ["passive", "good_person", "ten_person", "trained", "sideways", "misfit"]
+    board = dressbench.leaderboard(
+        episodes=1, workers=1, out=tmp_path / "out", robots=["good_arm", *BAD_ROBOTS],
+        humans=humans, **TINY,
+    )  # fmt: skip
+    pairs = set(zip(board["robot"], board["human"], strict=True))
+    assert pairs == {("good_arm", "passive"), ("good_arm", "good_person"), ("good_arm", "trained")}
+    lines = [str(w.message) for w in recwarn.list]
+    for name, expected in SKIPPED.items():
+        (line,) = [line for line in lines if f" plugin {name!r} " in line]
+        assert line.startswith("skipping " + expected.format(policies=mixed)), line
+
+
+def test_the_cli_names_each_skipped_plugin_on_one_line(mixed, tmp_path):
+    command = ["evaluate", "leaderboard", "--episodes", "1", "--workers", "1", "--horizon", "3",
+               "--gown-vertices", "300", "--out", str(tmp_path / "out"), "--robot", "good_arm",
+               "--robot", "six_pose", "--human", "passive", "--human", "misfit"]  # fmt: skip
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 0, result.output
+    warnings = [line for line in result.stderr.splitlines() if line.startswith("Warning: ")]
+    assert warnings == [
+        "Warning: skipping " + SKIPPED[name].format(policies=mixed) + text
+        for name, text in [
+            ("six_pose", ", expected (7,): (x, y, z, qx, qy, qz, qw) in the human frame"),
+            ("misfit", " (the file's ablation does not match the network)"),
+        ]
+    ]
+
+
+def test_evaluate_refuses_a_plugin_that_fails_its_check_naming_it(mixed, tmp_path):
+    with pytest.raises(
+        ValueError,
+        match=r"^human plugin 'misfit' from policy file .*misfit\.json "
+        "cannot be evaluated: its obs_dim is 163",
+    ):
+        dressbench.evaluate("good_arm", "misfit", episodes=1, workers=1, out=tmp_path, **TINY)
+    with pytest.raises(
+        ValueError,
+        match="^robot plugin 'zero_quat' from acme-robots 1.0 cannot "
+        "be evaluated: reset returned the quaternion",
+    ):
+        dressbench.evaluate("zero_quat", "passive", episodes=1, workers=1, out=tmp_path, **TINY)
+    assert not (tmp_path / "rollouts").exists()

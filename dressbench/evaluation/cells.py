@@ -151,17 +151,100 @@ def leaderboard_cells(
 
     A human is meant for a robot when its ``robot`` attribute names it; humans whose ``robot`` is
     None (the built-in baselines passive, random, reach, scripted) are generic and face every robot.
-    ``robots`` / ``humans`` restrict the names; broken plugins are skipped with a warning.
+    ``robots`` / ``humans`` restrict the names. Broken plugins, and plugins that fail the
+    preflight (``plugin_problems``: one reset and one act in a real env, a policy's metadata),
+    are skipped with a warning naming each and its package; the others are scored.
     """
-    robot_names = _usable(robot_plugins(), robots, "robot")
-    records = human_plugins()
-    policies = {name: records[name].factory() for name in _usable(records, humans, "human")}
+    robot_records, human_records = robot_plugins(), human_plugins()
+    robot_names = _usable(robot_records, robots, "robot")
+    policies, problems = _instances(human_records, _usable(human_records, humans, "human"))
+    meant = {
+        name: policy
+        for name, policy in policies.items()
+        if not isinstance(getattr(policy, "robot", None), str) or policy.robot in robot_names
+    }  # humans for robots not asked for are neither checked nor scored
+    robot_names, meant, found = plugin_problems(robot_names, meant)
+    for noun, name, problem in problems + found:
+        records = robot_records if noun == "robot" else human_records
+        warnings.warn(
+            f"skipping {noun} plugin {name!r} from {_origin(records[name])}: {problem}",
+            stacklevel=2,
+        )
     return [
         make_cell(robot, name, policy, **options)
         for robot in robot_names
-        for name, policy in policies.items()
+        for name, policy in meant.items()
         if policy.robot in (None, robot)
     ]
+
+
+def plugin_problems(
+    robots: Iterable[str], humans: Mapping[str, HumanPolicy]
+) -> tuple[list[str], dict[str, HumanPolicy], list[tuple[str, str, str]]]:
+    """The preflight of an evaluation, in this process: which plugins can be run.
+
+    Each robot strategy gets one reset and one act in a small real env
+    (``preflight.robot_problem``); each human instance its metadata checked (ablation, robot,
+    ``obs_dim`` against the ablation's observation) and one act on a real observation of its
+    ablation (``preflight.human_problem``). Returns the robots and humans that pass, and a
+    ``(noun, name, why)`` for each that does not.
+    """
+    from .preflight import Observations, human_metadata_problem, human_problem, robot_problem
+
+    problems: list[tuple[str, str, str]] = []
+    good_robots = []
+    for name in robots:
+        problem = robot_problem(name)
+        if problem:
+            problems.append(("robot", name, problem))
+        else:
+            good_robots.append(name)
+    good_humans: dict[str, HumanPolicy] = {}
+    observations = Observations(good_robots[0]) if good_robots else None
+    for name, policy in humans.items():
+        problem = human_metadata_problem(policy)
+        if problem is None and observations is not None:
+            problem = human_problem(policy, observations(policy.ablation))
+        if problem:
+            problems.append(("human", name, problem))
+        else:
+            good_humans[name] = policy
+    return good_robots, good_humans, problems
+
+
+def checked_pair(robot: str, human: str) -> HumanPolicy:
+    """The human instance of one cell after the preflight (``plugin_problems``) of both
+    plugins; a ValueError naming the plugin, its package and why when one fails it."""
+    load_robot(robot)  # an unknown or broken robot: its PluginError first
+    policy = load_human(human)
+    _, _, problems = plugin_problems([robot], {human: policy})
+    if problems:
+        noun, name, problem = problems[0]
+        record = (robot_plugins() if noun == "robot" else human_plugins())[name]
+        raise ValueError(
+            f"{noun} plugin {name!r} from {_origin(record)} cannot be evaluated: {problem}"
+        )
+    return policy
+
+
+def _instances(
+    records: Mapping[str, Any], names: Iterable[str]
+) -> tuple[dict[str, HumanPolicy], list[tuple[str, str, str]]]:
+    """A fresh instance of each named human plugin, and a problem for each whose factory fails."""
+    from ..plugins.registry import _one_line
+
+    policies, problems = {}, []
+    for name in names:
+        try:
+            policies[name] = records[name].factory()
+        except Exception as exc:
+            problems.append(("human", name, f"creating an instance failed: {_one_line(exc)}"))
+    return policies, problems
+
+
+def _origin(plugin: Any) -> str:
+    """Where a plugin comes from, for messages: ``'package version'``, or the policy file."""
+    return plugin.package if plugin.from_policy_file else plugin.origin
 
 
 def _usable(plugins: Mapping[str, Any], wanted: Iterable[str] | None, noun: str) -> list[str]:
@@ -174,7 +257,7 @@ def _usable(plugins: Mapping[str, Any], wanted: Iterable[str] | None, noun: str)
         if not plugins[name].ok:
             plugin = plugins[name]
             warnings.warn(
-                f"skipping broken {noun} plugin {name!r} from {plugin.origin}: {plugin.error}",
+                f"skipping broken {noun} plugin {name!r} from {_origin(plugin)}: {plugin.error}",
                 stacklevel=3,
             )
     return [name for name in names if plugins[name].ok]

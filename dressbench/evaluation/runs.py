@@ -12,7 +12,7 @@ from typing import Any
 import pandas as pd
 from tqdm.auto import tqdm
 
-from .cells import Cell, leaderboard_cells, make_cell
+from .cells import Cell, checked_pair, leaderboard_cells, make_cell
 from .io import write_csv
 from .meta import git_commit, versions
 from .report import success_definition, write_summary
@@ -40,9 +40,11 @@ def evaluate(
     Returns the episodes table (one row per rollout, as in episodes.csv). ``options`` go to
     ``make_human_env`` (horizon, gown_vertices, device, ...); the ablation is the human's.
     Episodes already in ``out`` of the same identity (the robot's and human's names, versions
-    and, for a trained policy, checksum; the env settings; the seed) are not run again.
+    and, for a trained policy, checksum; the env settings; the seed) are not run again. Both
+    plugins are first checked in a small env (``cells.plugin_problems``): a ValueError names
+    the one that fails and why.
     """
-    cell = make_cell(robot, human, **options)
+    cell = make_cell(robot, human, checked_pair(robot, human), **options)
     episodes_table, _ = _evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options
     )
@@ -68,6 +70,10 @@ def leaderboard(
     restrict the names. Returns the leaderboard table (as in leaderboard.csv).
     """
     cells = leaderboard_cells(robots, humans, **options)
+    if not cells:
+        raise ValueError(
+            "nothing to evaluate: no usable robot strategy with a usable human meant for it"
+        )
     _, board = _evaluate_cells(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options
     )
