@@ -15,6 +15,7 @@ import pytest
 from dressbench import plugins
 from dressbench.evaluation import evaluate, leaderboard
 from dressbench.training import TrainConfig, load_policy, train
+from dressbench.training.curriculum import CurriculumConfig
 
 TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}
 
@@ -37,6 +38,18 @@ def policies_on_path(tmp_path, monkeypatch):
 def test_timesteps_are_honoured_as_given_not_rounded_up_to_a_whole_update(tmp_path):
     path = train(tiny_config(tmp_path, timesteps=200, name="exact"), progress=False)
     assert json.loads(path.read_text())["steps"] == 200  # updates are of 128 samples
+
+
+def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path):
+    coach = CurriculumConfig(share=1.0, window=2, promote_at=0.0)  # promote after 2 episodes
+    config = tiny_config(tmp_path, timesteps=256, name="coached", curriculum=coach)
+    train(config, progress=False)
+    folder = tmp_path / "runs" / "coached"
+    reach = json.loads((folder / "checkpoint.json").read_text())["curriculum_reach"]
+    assert reach > coach.first_reach
+    logged = pd.read_csv(folder / "logs" / "progress.csv")["curriculum/reach"]
+    assert logged.is_monotonic_increasing and logged.iloc[-1] == pytest.approx(reach)
+    assert json.loads((folder / "run.json").read_text())["config"]["curriculum"]["share"] == 1.0
 
 
 def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, policies_on_path):

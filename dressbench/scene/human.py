@@ -329,6 +329,26 @@ class Human:
         q[8:12] = [0.0, 0.0, np.pi / 2, 0.0]  # shoulder elevation, middle axis, swing; elbow
         return q
 
+    def reaching_pose(
+        self, tip: np.ndarray, direction: np.ndarray, iterations: int = 60
+    ) -> np.ndarray:
+        """A pose, from rest, with the fingertip near ``tip`` and the hand pointing along the
+        unit ``direction``: damped least squares on the right arm's actuated joints, kept within
+        their ranges (kinematics only; it leaves the skeleton in that pose)."""
+        arm = self.actuated_index[3:]  # clavicle, shoulder, elbow, wrist
+        wrist_target = tip - np.linalg.norm(self._tip_local) * np.asarray(direction)
+        q = self.rest.copy()
+        for _ in range(iterations):
+            tip_jac, wrist_jac = self.hand_jacobians(q)
+            now_tip, now_wrist = self.arm_chain(self.body_transforms())[:2]
+            error = np.concatenate([tip - now_tip, wrist_target - now_wrist])
+            if np.linalg.norm(error) < 1e-3:
+                break
+            jac = np.vstack([tip_jac[:, arm], wrist_jac[:, arm]])
+            step = jac.T @ np.linalg.solve(jac @ jac.T + 0.05**2 * np.eye(6), error)
+            q[arm] = np.clip(q[arm] + step, self.lower[arm], self.upper[arm])
+        return q
+
     def action_for(self, q_target: np.ndarray) -> np.ndarray:
         """The PD action whose targets are ``q_target`` on the actuated DOFs (clipped to range)."""
         i = self.actuated_index

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 from collections import deque
 from dataclasses import asdict
@@ -16,6 +17,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 from tqdm import tqdm
 
 from ..evaluation.io import write_csv
+from .curriculum import CurriculumLevels, NearStarts
 from .summary import learning_table, write_learning_summary
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
@@ -29,6 +31,14 @@ class TrainingRun:
         self.model_path = self.folder / f"{CHECKPOINT}.zip"
         self.norm_path = self.folder / f"{CHECKPOINT}-normalization.pkl"
         self.state_path = self.folder / "checkpoint.json"
+        self.curriculum: CurriculumLevels | None = None
+        if config.curriculum is not None:
+            reach = self._saved_state().get("curriculum_reach", config.curriculum.first_reach)
+            self.curriculum = CurriculumLevels(config.curriculum, reach)
+
+    def _saved_state(self) -> dict:
+        """The last checkpoint's marker (steps, seed, curriculum level), or {} before one."""
+        return json.loads(self.state_path.read_text()) if self.state_path.exists() else {}
 
     # ----------------------------------------------------------------------------- run
     def run(self, progress: bool = True) -> Path:
@@ -45,9 +55,10 @@ class TrainingRun:
                 self._archive_progress(done)
                 model.set_logger(configure(str(self.folder / "logs"), ["csv", "tensorboard"]))
                 total = self.config.timesteps
-                callbacks = CallbackList(
-                    [_Checkpoints(self), _StopAt(total), _Progress(done, total, progress)]
-                )
+                steps = [_Checkpoints(self), _StopAt(total), _Progress(done, total, progress)]
+                if self.curriculum is not None:
+                    steps.append(self.curriculum)
+                callbacks = CallbackList(steps)
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
             write_learning_summary(self.folder, self.folder, until=int(model.num_timesteps))
@@ -112,8 +123,10 @@ class TrainingRun:
         model.get_vec_normalize_env().save(str(tmp_norm))
         os.replace(tmp_norm, self.norm_path)
         os.replace(tmp_model, self.model_path)
-        write_json_atomic(self.state_path, {"timesteps": int(model.num_timesteps),
-                                            "seed": self.config.seed})  # fmt: skip
+        state = {"timesteps": int(model.num_timesteps), "seed": self.config.seed}
+        if self.curriculum is not None:
+            state["curriculum_reach"] = self.curriculum.reach
+        write_json_atomic(self.state_path, state)
 
     def export(self, model) -> Path:
         """The finished policy as safetensors + JSON in the policies folder."""
@@ -153,7 +166,11 @@ class _EnvFactory:
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
                              horizon=cfg.horizon)  # fmt: skip
-        return Monitor(env, info_keywords=("arm_progress", "max_deformation", "sim_failure"))
+        keywords = ("arm_progress", "max_deformation", "sim_failure")
+        if cfg.curriculum is not None:
+            env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)
+            keywords += ("near_start",)
+        return Monitor(env, info_keywords=keywords)
 
 
 def _algorithm(name: str):

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .curriculum import CurriculumConfig
+
 ALGORITHMS = ("trpo", "ppo")
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
 
@@ -39,6 +41,7 @@ class TrainConfig:
     gae_lambda: float = 0.95
     target_kl: float = 0.01
     checkpoint_every: int = 20_000  # environment steps between checkpoints
+    curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
     out: str = "runs"
     policies: str = "policies"
     name: str = ""  # defaults to ROBOT-ABLATION-ALGO-sSEED

@@ -1,0 +1,99 @@
+"""A curriculum over start states: some episodes begin with the hand already before the opening,
+farther away as the policy learns to get it in.
+
+The policy's observation is unchanged (the human perceives what it always does); only where an
+episode starts uses privileged state, the opening's pose, as a coach placing the arm would.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3.common.callbacks import BaseCallback
+
+from ..metrics import feature_plane
+from ..scene.world import Scene
+
+
+@dataclass(frozen=True)
+class CurriculumConfig:
+    """How near starts are drawn and how they widen."""
+
+    share: float = 0.5  # of episodes that start near the opening while the curriculum runs
+    first_reach: float = 0.05  # m: at the first level the fingertip starts up to this far away
+    step: float = 0.05  # m the reach widens by at each promotion
+    last_reach: float = 0.35  # m: past this the curriculum ends and every start is at rest
+    promote_at: float = 0.6  # hand-in rate of the recent near starts that earns a promotion
+    window: int = 40  # near-start episodes the rate is taken over
+    hand_in: float = 0.18  # m of final arm progress that counts as the hand in
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.share <= 1.0:
+            raise ValueError(f"share must be in [0, 1], got {self.share}")
+        if not 0.0 < self.first_reach <= self.last_reach:
+            raise ValueError("need 0 < first_reach <= last_reach")
+
+
+class NearStarts(gym.Wrapper):
+    """Starts a share of episodes with the fingertip on the opening's axis, up to ``reach`` in
+    front of it and pointing in; ``info["near_start"]`` is that distance (0 for a rest start)."""
+
+    def __init__(self, env: gym.Env, config: CurriculumConfig, seed: int = 0) -> None:
+        super().__init__(env)
+        self.config = config
+        self.reach = config.first_reach
+        self._rng = np.random.default_rng(seed)
+        self._distance = 0.0
+
+    def set_reach(self, reach: float) -> None:
+        """The curriculum's level: how far in front of the opening a near start may be."""
+        self.reach = float(reach)
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        if seed is not None:
+            self._rng = np.random.default_rng([seed, 1])
+        near = self.reach <= self.config.last_reach and self._rng.random() < self.config.share
+        self._distance = float(self._rng.uniform(0.02, self.reach)) if near else 0.0
+        if near:
+            options = (options or {}) | {"human_start": self._start_pose}
+        observation, info = self.env.reset(seed=seed, options=options)
+        return observation, info | {"near_start": self._distance}
+
+    def step(self, action):
+        observation, reward, terminated, truncated, info = self.env.step(action)
+        return observation, reward, terminated, truncated, info | {"near_start": self._distance}
+
+    def _start_pose(self, scene: Scene) -> np.ndarray:
+        """The fingertip ``distance`` before the opening's centre, the hand pointing in."""
+        plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
+        tip = plane.centroid - self._distance * plane.normal
+        return scene.human.reaching_pose(tip, plane.normal)
+
+
+class CurriculumLevels(BaseCallback):
+    """Widens the near starts when the policy gets the hand in from most of them."""
+
+    def __init__(self, config: CurriculumConfig, reach: float) -> None:
+        super().__init__()
+        self.config = config
+        self.reach = reach
+        self.recent: deque[bool] = deque(maxlen=config.window)
+
+    def _on_training_start(self) -> None:
+        self.training_env.env_method("set_reach", self.reach)
+
+    def _on_step(self) -> bool:
+        for info in self.locals.get("infos", []):
+            episode = info.get("episode")
+            if episode is not None and episode["near_start"] > 0.0:
+                self.recent.append(episode["arm_progress"] >= self.config.hand_in)
+        full = len(self.recent) == self.recent.maxlen
+        if full and np.mean(self.recent) >= self.config.promote_at:
+            self.reach += self.config.step
+            self.recent.clear()
+            self.training_env.env_method("set_reach", self.reach)
+        self.logger.record("curriculum/reach", self.reach)
+        return True
