@@ -7,9 +7,11 @@ tests/test_plugins_registry.py); episodes are tiny (horizon 3-5, a 300-vertex go
 import hashlib
 import json
 import os
+import signal
 import stat
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -335,3 +337,65 @@ def test_evaluate_refuses_a_plugin_that_fails_its_check_naming_it(mixed, tmp_pat
     ):
         dressbench.evaluate("zero_quat", "passive", episodes=1, workers=1, out=tmp_path, **TINY)
     assert not (tmp_path / "rollouts").exists()
+
+
+# --- killing an evaluation ends its workers ------------------------------------------------------
+
+SLEEPY_MODULE = (
+    HUMAN_MODULE
+    + """
+import multiprocessing, os, pathlib, time
+
+class Sleepy(Human):
+    def act(self, observation):
+        if multiprocessing.parent_process() is not None:  # in a pool's worker, not the preflight
+            pathlib.Path(os.environ["SLEEPY_MARKS"], str(os.getpid())).touch()
+            time.sleep(120)
+        return np.zeros(11)
+"""
+)
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process runs (a zombie, dead but not yet reaped, does not count)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc")
+def test_killing_an_evaluation_ends_its_workers_within_seconds(site, tmp_path):
+    install(site, "sleepy", "1.0", {HUMANS: {"sleepy": "sleepy_human:Sleepy"}},
+            sleepy_human=SLEEPY_MODULE)  # fmt: skip
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    code = (
+        "import dressbench\n"
+        f"dressbench.evaluate('fixed', 'sleepy', episodes=4, workers=2, out={str(tmp_path)!r}, "
+        "horizon=3, gown_vertices=300, progress=False)\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(site), "SLEEPY_MARKS": str(marks)}
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    main_process = subprocess.Popen([sys.executable, "-c", code], env=env, **quiet)
+    workers: list[int] = []
+    try:
+        deadline = time.monotonic() + 240
+        while len(workers) < 2 and time.monotonic() < deadline:
+            assert main_process.poll() is None, "the evaluation ended before its workers acted"
+            workers = [int(p.name) for p in marks.iterdir()]
+            time.sleep(0.2)
+        assert len(workers) == 2, "the workers did not start"
+        main_process.kill()  # SIGKILL: no cleanup runs in the main process
+        main_process.wait()
+        deadline = time.monotonic() + 15
+        while any(map(_alive, workers)) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert not [pid for pid in workers if _alive(pid)], "workers outlived their parent"
+    finally:
+        if main_process.poll() is None:
+            main_process.kill()
+            main_process.wait()
+        for pid in workers:
+            if _alive(pid):
+                os.kill(pid, signal.SIGKILL)
