@@ -610,7 +610,7 @@ class Cloth:
         self.cap_b_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_r = arr(capsule_radius, float)
         self.capsule_radius = np.asarray(capsule_radius, dtype=float)
-        self._reach = config.thickness + config.broadphase_margin
+        self._reach = config.thickness + config.broadphase_margin  # of the broadphase
         self.cap_lo = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_hi = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
         self.cap_body = arr(capsule_body, int)
@@ -656,9 +656,9 @@ class Cloth:
         _write(self.cap_b_prev, capsules_prev[:, 1])
         _write(self.cap_a, capsules[:, 0])
         _write(self.cap_b, capsules[:, 1])
-        reach = self.capsule_radius[:, None] + self._reach
-        _write(self.cap_lo, capsules.min(axis=1) - reach)
-        _write(self.cap_hi, capsules.max(axis=1) + reach)
+        margin = self.capsule_radius[:, None] + self._reach
+        _write(self.cap_lo, capsules.min(axis=1) - margin)
+        _write(self.cap_hi, capsules.max(axis=1) + margin)
         _write(self.body_origin, body_origins)
         _write(self.sensors, sensors)
 
@@ -684,7 +684,6 @@ class Cloth:
         d = self.device
         n = self.n
         h = self.dt / cfg.substeps
-        reach = cfg.thickness + cfg.broadphase_margin
         wp.launch(_zero_vec3, self.n_bodies, [self.body_force], device=d)
         wp.launch(_zero_vec3, self.n_bodies, [self.body_torque], device=d)
         for s in range(cfg.substeps):
@@ -731,7 +730,7 @@ class Cloth:
                     self.cap_lo,
                     self.cap_hi,
                     self.n_caps,
-                    reach,
+                    self._reach,
                     self.mask,
                 ],
                 device=d,
