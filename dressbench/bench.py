@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .checks import check_device, check_gown_vertices, check_int
 from .observation import human_observation
 from .scene.garment import GownConfig
 from .scene.world import Scene, SceneConfig
@@ -33,6 +34,7 @@ def bench_scene(vertices: int, steps: int, device: str = "cpu", repeats: int = 3
     Each is timed ``repeats`` times and the fastest run is reported, as timeit does: the
     slower runs measure the machine's other load, not the code.
     """
+    check_inputs(vertices, steps, device, repeats)
     config = replace(SceneConfig(device=device), gown=GownConfig(target_vertices=vertices))
     scene = Scene(config)
     n_vertices = len(scene.gown.positions)
@@ -53,6 +55,14 @@ def bench_scene(vertices: int, steps: int, device: str = "cpu", repeats: int = 3
         _row(n_vertices, "scene", steps, _best_time(whole_step, repeats), scene.failed),
         bench_env(vertices, steps, device, repeats),
     ]
+
+
+def check_inputs(vertices: int, steps: int, device: str, repeats: int) -> None:
+    """Refuse, before anything is built, what ``bench_scene`` cannot time (a ValueError)."""
+    check_gown_vertices(vertices, "vertices")
+    check_int(steps, "steps", 1)
+    check_int(repeats, "repeats", 1)
+    check_device(device)
 
 
 def bench_env(vertices: int, steps: int, device: str = "cpu", repeats: int = 3) -> dict:

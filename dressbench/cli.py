@@ -1,8 +1,14 @@
-"""The ``dressbench`` command line: thin wrappers over the library API."""
+"""The ``dressbench`` command line: thin wrappers over the library API.
+
+Every option is checked (``dressbench.checks``) before any work starts, and a bad value ends
+in one line that names the option and says what is allowed.
+"""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from typing import Any
 
 import click
 
@@ -28,6 +34,39 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     click.echo(f"Warning: {message}", err=True)
 
 
+def _checked(check: str, **arguments: Any) -> Callable[..., Any]:
+    """An option callback running ``dressbench.checks.<check>(value, name="", **arguments)``
+    on the value (each value of a repeatable option); its ValueError becomes a
+    ``click.BadParameter``, which click prints naming the option."""
+
+    def callback(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
+        from . import checks
+
+        function = getattr(checks, check)
+        values = value if isinstance(value, tuple) else (value,)
+        try:
+            for one in values:
+                function(one, name="", **arguments)
+        except ValueError as error:
+            raise click.BadParameter(str(error), ctx=ctx, param=param) from None
+        return value
+
+    return callback
+
+
+_EPISODES = _checked("check_episodes")
+_SEED = _checked("check_seed")
+_VERTICES = _checked("check_gown_vertices")
+_HORIZON = _checked("check_horizon")
+_WORKERS = _checked("check_processes", zero="one per core")
+_FOLDER = _checked("check_folder")
+
+
+def _at_least(minimum: int) -> Callable[..., Any]:
+    """A callback refusing integers below ``minimum``."""
+    return _checked("check_int", minimum=minimum)
+
+
 @click.group(cls=_Commands)
 @click.version_option(package_name="dressbench")
 def main() -> None:
@@ -35,11 +74,15 @@ def main() -> None:
 
 
 @main.command()
-@click.option("--vertices", "-v", multiple=True, type=int, help="Gown resolutions (repeatable).")
-@click.option("--steps", default=200, show_default=True, help="Policy steps timed per row.")
-@click.option("--repeats", default=3, show_default=True, help="Timed runs; the fastest counts.")
+@click.option("--vertices", "-v", multiple=True, type=int, callback=_VERTICES,
+              help="Gown resolutions (repeatable).")  # fmt: skip
+@click.option("--steps", default=200, show_default=True, callback=_at_least(1),
+              help="Policy steps timed per row.")  # fmt: skip
+@click.option("--repeats", default=3, show_default=True, callback=_at_least(1),
+              help="Timed runs; the fastest counts.")  # fmt: skip
 @click.option("--quick", is_flag=True, help="Only the default resolution, 100 steps.")
-@click.option("--device", default="cpu", show_default=True, help="Warp device for the cloth.")
+@click.option("--device", default="cpu", show_default=True, callback=_checked("check_device"),
+              help="Warp device for the cloth.")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
 def bench(
     vertices: tuple[int, ...], steps: int, repeats: int, quick: bool, device: str, as_json: bool
@@ -64,20 +107,23 @@ def bench(
 
 
 @main.command()
-@click.option("--episodes", default=6, show_default=True, help="Episodes per human motion.")
+@click.option("--episodes", default=6, show_default=True, callback=_EPISODES,
+              help="Episodes per human motion.")  # fmt: skip
 def calibrate(episodes: int) -> None:
     """Measure how much careful, pressing and careless motions deform the gown (the table of
     docs/reward.md, behind the deformation threshold)."""
     from .calibration import calibration, markdown
 
-    if episodes < 1:
-        raise click.BadParameter("must be at least 1", param_hint="--episodes")
     click.echo(markdown(calibration(episodes)), nl=False)
 
 
 @main.command()
 def plugins() -> None:
-    """List every robot strategy and human policy plugin, with its package and status."""
+    """List every robot strategy and human policy plugin, with its package and status.
+
+    "ok" means the plugin imports and has the protocol's methods and attributes; evaluations
+    also run it once in a small env first (docs/plugins.md).
+    """
     from .plugins import all_plugins
 
     rows = all_plugins()
@@ -97,13 +143,18 @@ def plugins() -> None:
     default="complete",
     show_default=True,
 )
-@click.option("--timesteps", default=200_000, show_default=True, help="Environment steps.")
-@click.option("--envs", default=0, help="Parallel env processes (default: one per core).")
-@click.option("--seed", default=0, show_default=True)
-@click.option("--gown-vertices", default=2000, show_default=True)
-@click.option("--out", default="runs", show_default=True, help="Folder of training runs.")
-@click.option("--policies", default="policies", show_default=True, help="Where models go.")
-@click.option("--name", default="", help="Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).")
+@click.option("--timesteps", default=200_000, show_default=True, callback=_at_least(1),
+              help="Environment steps.")  # fmt: skip
+@click.option("--envs", default=0, callback=_WORKERS,
+              help="Parallel env processes (default: one per core).")  # fmt: skip
+@click.option("--seed", default=0, show_default=True, callback=_SEED)
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
+@click.option("--out", default="runs", show_default=True, callback=_FOLDER,
+              help="Folder of training runs.")  # fmt: skip
+@click.option("--policies", default="policies", show_default=True, callback=_FOLDER,
+              help="Where models go.")  # fmt: skip
+@click.option("--name", default="", callback=_checked("check_name"),
+              help="Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).")  # fmt: skip
 @click.option("--resume/--fresh", default=True, show_default=True,
               help="Continue from the run's last checkpoint, or start over.")  # fmt: skip
 def train(resume: bool, **options) -> None:
@@ -114,6 +165,7 @@ def train(resume: bool, **options) -> None:
     from .training import train as train_policy
 
     config = TrainConfig(**options)
+    config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:
         shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
     path = train_policy(config)
@@ -123,11 +175,12 @@ def train(resume: bool, **options) -> None:
 @main.group(invoke_without_command=True)
 @click.option("--robot", help="Robot strategy.")
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
-@click.option("--episodes", default=100, show_default=True)
-@click.option("--seed", default=0, show_default=True)
-@click.option("--workers", default=0, help="Parallel processes (default: one per core).")
-@click.option("--gown-vertices", default=2000, show_default=True)
-@click.option("--out", default="results", show_default=True)
+@click.option("--episodes", default=100, show_default=True, callback=_EPISODES)
+@click.option("--seed", default=0, show_default=True, callback=_SEED)
+@click.option("--workers", default=0, callback=_WORKERS,
+              help="Parallel processes (default: one per core).")  # fmt: skip
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
+@click.option("--out", default="results", show_default=True, callback=_FOLDER)
 @click.pass_context
 def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out):
     """Score a human with a robot strategy over seeded rollouts; see also `leaderboard`."""
@@ -139,16 +192,17 @@ def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_ver
 
     run_evaluation(robot, human, episodes=episodes, seed=seed, workers=workers or None, out=out,
                    gown_vertices=gown_vertices)  # fmt: skip
-    click.echo(f"results in {out}/ (episodes.csv, curves.csv, leaderboard.md, plots)")
+    click.echo(f"results in {out} (episodes.csv, curves.csv, leaderboard.md, plots)")
 
 
 @evaluate.command("leaderboard")
-@click.option("--episodes", default=100, show_default=True)
-@click.option("--seed", default=0, show_default=True)
-@click.option("--workers", default=0, help="Parallel processes (default: one per core).")
-@click.option("--gown-vertices", default=2000, show_default=True)
-@click.option("--horizon", default=400, show_default=True)
-@click.option("--out", default="results", show_default=True)
+@click.option("--episodes", default=100, show_default=True, callback=_EPISODES)
+@click.option("--seed", default=0, show_default=True, callback=_SEED)
+@click.option("--workers", default=0, callback=_WORKERS,
+              help="Parallel processes (default: one per core).")  # fmt: skip
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
+@click.option("--horizon", default=400, show_default=True, callback=_HORIZON)
+@click.option("--out", default="results", show_default=True, callback=_FOLDER)
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out, robots, humans):
@@ -156,20 +210,24 @@ def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out, ro
 
     Finished rollouts in OUT are reused, so a leaderboard can be built a few cells at a time.
     """
+    from pathlib import Path
+
     from .evaluation import leaderboard
 
     leaderboard(episodes=episodes, seed=seed, workers=workers or None, out=out,
                 robots=robots or None, humans=humans or None, gown_vertices=gown_vertices,
                 horizon=horizon)  # fmt: skip
-    click.echo(f"leaderboard in {out}/leaderboard.md, plots in {out}/*.png")
+    click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
 
 
 @main.command()
 @click.option("--robot", default="fixed", show_default=True)
 @click.option("--human", default="scripted", show_default=True)
-@click.option("--out", "path", default="rollout.gif", show_default=True, help="A .gif or .mp4.")
-@click.option("--seed", default=0, show_default=True)
-@click.option("--gown-vertices", default=2000, show_default=True)
+@click.option("--out", "path", default="rollout.gif", show_default=True,
+              callback=_checked("check_output_file", suffixes=(".gif", ".mp4")),
+              help="A .gif or .mp4, in a folder that exists.")  # fmt: skip
+@click.option("--seed", default=0, show_default=True, callback=_SEED)
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
 def render(robot, human, path, seed, gown_vertices):
     """A headless video of one rollout (the human's capsules, the gown, the gripper)."""
     from .render import render_rollout

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
 
+from .checks import check_gown_vertices, check_horizon
 from .observation import ABLATIONS
 from .scene.world import SceneConfig
 
@@ -40,8 +41,8 @@ class EnvConfig:
             raise ValueError(
                 f"unknown ablation {self.ablation!r}: choose one of {', '.join(ABLATIONS)}"
             )
-        if self.horizon < 1:
-            raise ValueError(f"horizon must be at least 1, got {self.horizon}")
+        check_horizon(self.horizon)
+        check_gown_vertices(self.gown_vertices)
 
     def scene_config(self) -> SceneConfig:
         """The scene settings with this config's resolution and device applied."""

@@ -173,6 +173,9 @@ def shade(
     return out
 
 
+VIDEO_SUFFIXES = (".gif", ".mp4")
+
+
 def save_video(frames: list[np.ndarray], path: str | Path, fps: int = 25) -> None:
     """Write frames as ``.gif`` (Pillow) or ``.mp4`` (imageio-ffmpeg), chosen by the suffix."""
     path = Path(path)
@@ -181,14 +184,20 @@ def save_video(frames: list[np.ndarray], path: str | Path, fps: int = 25) -> Non
         raise ValueError(f"cannot write video {path.name!r}: use a .gif or .mp4 suffix")
     if not frames:
         raise ValueError(f"no frames to write to {path.name!r}")
-    _require("imageio", "imageio", suffix)
+    _require_writer(suffix)
     import imageio.v3 as iio
 
     if suffix == ".gif":
         iio.imwrite(path, np.stack(frames), plugin="pillow", duration=1000.0 / fps, loop=0)
         return
-    _require("imageio_ffmpeg", "imageio-ffmpeg", suffix)
     iio.imwrite(path, np.stack(frames), plugin="FFMPEG", fps=fps, macro_block_size=2)
+
+
+def _require_writer(suffix: str) -> None:
+    """The optional packages that write ``suffix`` videos are installed, or a one-line error."""
+    _require("imageio", "imageio", suffix)
+    if suffix == ".mp4":
+        _require("imageio_ffmpeg", "imageio-ffmpeg", suffix)
 
 
 def _require(module: str, package: str, suffix: str) -> None:
@@ -211,10 +220,18 @@ def render_rollout(
     """Run one seeded rollout of a human plugin with a robot strategy and save it as a video.
 
     Every ``every``-th policy step becomes a frame; by default the video plays in real time.
+    The path is checked before anything is rendered: a ``.gif`` or ``.mp4`` in a folder that
+    exists, with its writer installed.
     """
     from . import make_human_env
+    from .checks import check_int, check_output_file
     from .plugins import load_human
 
+    path = check_output_file(path, VIDEO_SUFFIXES, "video")
+    _require_writer(path.suffix.lower())
+    check_int(every, "every", 1)
+    if fps is not None:
+        check_int(fps, "fps", 1)
     policy = load_human(human)
     env = make_human_env(robot, ablation=policy.ablation, **options)
     observation, _ = env.reset(seed=seed)

@@ -12,6 +12,7 @@ from typing import Any
 import pandas as pd
 from tqdm.auto import tqdm
 
+from ..checks import check_episodes, check_folder, check_processes, check_seed
 from .cells import Cell, checked_pair, leaderboard_cells, make_cell
 from .io import write_csv
 from .meta import git_commit, versions
@@ -44,6 +45,7 @@ def evaluate(
     plugins are first checked in a small env (``cells.plugin_problems``): a ValueError names
     the one that fails and why.
     """
+    _check_run(episodes, seed, workers, out)
     cell = make_cell(robot, human, checked_pair(robot, human), **options)
     episodes_table, _ = _evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options
@@ -69,6 +71,7 @@ def leaderboard(
     (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
     restrict the names. Returns the leaderboard table (as in leaderboard.csv).
     """
+    _check_run(episodes, seed, workers, out)
     cells = leaderboard_cells(robots, humans, **options)
     if not cells:
         raise ValueError(
@@ -78,6 +81,17 @@ def leaderboard(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options
     )
     return board
+
+
+def _check_run(episodes: int, seed: int, workers: int | None, out: str | os.PathLike) -> None:
+    """Refuse, before anything runs, a count out of range or an ``out`` that is no folder:
+    episodes from 1 to ``MAX_EPISODES``, seed from 0 to ``MAX_SEED``, workers None (one per
+    core) or from 1 to ``MAX_PROCESSES``, ``out`` a folder that exists or can be created."""
+    check_episodes(episodes)
+    check_seed(seed)
+    if workers is not None:
+        check_processes(workers)
+    check_folder(out, "out")
 
 
 def _evaluate_cells(
@@ -95,8 +109,6 @@ def _evaluate_cells(
 
     Returns the episodes table and the leaderboard table.
     """
-    if episodes < 1:
-        raise ValueError(f"episodes must be at least 1, got {episodes}")
     started, clock = datetime.now(timezone.utc), time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     tasks = [

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 from collections import deque
 from dataclasses import asdict
 from pathlib import Path
@@ -42,9 +43,23 @@ class TrainingRun:
 
     # ----------------------------------------------------------------------------- run
     def run(self, progress: bool = True) -> Path:
-        """Train to ``timesteps`` (resuming a checkpoint if there is one) and export."""
+        """Train to ``timesteps`` (resuming a checkpoint if there is one) and export.
+
+        Bad input fails before the run folder is made (``TrainConfig.check``); a run that this
+        call started fails before its first checkpoint leaves no folder behind.
+        """
+        self.config.check()
         torch.set_num_threads(1)  # a second thread does not speed these small updates up
+        created = not self.folder.exists()
         self.folder.mkdir(parents=True, exist_ok=True)
+        try:
+            return self._run(progress)
+        except Exception:
+            if created and not self.model_path.exists():
+                shutil.rmtree(self.folder, ignore_errors=True)
+            raise
+
+    def _run(self, progress: bool) -> Path:
         write_json_atomic(self.folder / "run.json", {"config": asdict(self.config),
                                                      "versions": versions()})  # fmt: skip
         venv = self._envs()

@@ -18,6 +18,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import (
+    check_folder,
+    check_gown_vertices,
+    check_horizon,
+    check_int,
+    check_name,
+    check_processes,
+    check_seed,
+)
 from .curriculum import CurriculumConfig
 
 ALGORITHMS = ("trpo", "ppo")
@@ -49,8 +58,33 @@ class TrainConfig:
     def __post_init__(self) -> None:
         if self.algo not in ALGORITHMS:
             raise ValueError(f"unknown algorithm {self.algo!r}: choose one of {ALGORITHMS}")
-        if self.timesteps < 1:
-            raise ValueError(f"timesteps must be positive, got {self.timesteps}")
+        check_int(self.timesteps, "timesteps", 1)
+        check_processes(self.envs, "envs", zero="one per core")
+        check_seed(self.seed)
+        check_gown_vertices(self.gown_vertices)
+        check_horizon(self.horizon)
+        check_int(self.samples_per_update, "samples_per_update", 1)
+        check_int(self.checkpoint_every, "checkpoint_every", 1)
+        check_name(self.name)
+
+    def check(self) -> None:
+        """What a run needs besides its numbers, checked before anything is written: the robot
+        strategy loads (else a ``PluginError``) and passes one reset and one act in a small env,
+        the env options are valid, and ``out`` and ``policies`` are folders that exist or can
+        be created (else a ``ValueError``)."""
+        from ..config import EnvConfig  # here: importing it loads the physics
+        from ..evaluation.preflight import robot_problem
+        from ..plugins import load_robot, robot_plugins
+
+        load_robot(self.robot)
+        EnvConfig(ablation=self.ablation, gown_vertices=self.gown_vertices, horizon=self.horizon)
+        check_folder(self.out, "out")
+        check_folder(self.policies, "policies")
+        problem = robot_problem(self.robot)
+        if problem:
+            origin = robot_plugins()[self.robot].origin
+            raise ValueError(f"robot plugin {self.robot!r} from {origin} cannot be trained for: "
+                             f"{problem}")  # fmt: skip
 
     @property
     def run_name(self) -> str:
