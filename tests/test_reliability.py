@@ -22,11 +22,15 @@ from click.testing import CliRunner
 
 import dressbench
 from dressbench import plugins
+from dressbench.bench import bench_scene
 from dressbench.cli import main
+from dressbench.config import EnvConfig
 from dressbench.evaluation import io as atomic
 from dressbench.observation import ABLATIONS, observation_size
-from dressbench.training import policy_file
+from dressbench.render import render_rollout
+from dressbench.training import TrainConfig, policy_file
 from dressbench.training.policy_file import FORMAT, FORMAT_VERSION, PolicyFileError, load_policy
+from dressbench.training.run import TrainingRun
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
@@ -399,3 +403,182 @@ def test_killing_an_evaluation_ends_its_workers_within_seconds(site, tmp_path):
         for pid in workers:
             if _alive(pid):
                 os.kill(pid, signal.SIGKILL)
+
+
+# --- every option is checked before work starts, in one line naming it ---------------------------
+
+EVALUATE = ["evaluate", "--robot", "fixed", "--human", "passive"]
+LEADERBOARD = ["evaluate", "leaderboard", "--robot", "fixed", "--human", "passive"]
+
+
+def _one_error_line(result, option: str) -> str:
+    """The error of a refused command line: exit status 2 (a usage error), one line naming the
+    option, no traceback."""
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    errors = [line for line in result.output.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 1 and "Traceback" not in result.output, result.output
+    assert errors[0].startswith(f"Error: Invalid value for '{option}'"), errors[0]
+    return errors[0]
+
+
+def _cuda_available() -> bool:
+    import warp as wp
+
+    from dressbench.scene import cloth  # noqa: F401 - Warp's kernel cache
+
+    wp.init()
+    return wp.is_cuda_available()
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "allowed"),
+    [
+        (["train", "--envs", "-1"], "--envs", "must be 0 (one per core) or from 1 to 256"),
+        (["train", "--seed", "-5"], "--seed", "must be from 0 to 4294967295, got -5"),
+        (["train", "--timesteps", "0"], "--timesteps", "must be at least 1, got 0"),
+        (["train", "--name", "../elsewhere"], "--name", "must be a plain file name"),
+        (["bench", "--steps", "0"], "--steps", "must be at least 1, got 0"),
+        (["bench", "--repeats", "0"], "--repeats", "must be at least 1, got 0"),
+        (["bench", "--vertices", "50"], "--vertices", "must be from 100 to 20000, got 50"),
+        ([*EVALUATE, "--workers", "-1"], "--workers", "must be 0 (one per core) or from 1 to"),
+        ([*EVALUATE, "--seed", "-5"], "--seed", "must be from 0 to 4294967295, got -5"),
+        ([*EVALUATE, "--episodes", "0"], "--episodes", "must be from 1 to 100000, got 0"),
+        ([*LEADERBOARD, "--episodes", "0"], "--episodes", "must be from 1 to 100000, got 0"),
+        ([*LEADERBOARD, "--workers", "-1"], "--workers", "must be 0 (one per core) or from 1"),
+        ([*LEADERBOARD, "--horizon", "0"], "--horizon", "must be from 1 to 100000, got 0"),
+        (["render", "--seed", "-1"], "--seed", "must be from 0 to 4294967295, got -1"),
+        (["calibrate", "--episodes", "0"], "--episodes", "must be from 1 to 100000, got 0"),
+    ],
+)
+def test_a_bad_option_is_one_line_naming_it_and_what_is_allowed(
+    tmp_path, monkeypatch, args, option, allowed
+):
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(main, args)
+    assert allowed in _one_error_line(result, option)
+    assert list(tmp_path.iterdir()) == []  # nothing was started, nothing written
+
+
+@pytest.mark.skipif(_cuda_available(), reason="this machine has a GPU")
+def test_bench_on_a_missing_gpu_is_one_line():
+    result = CliRunner().invoke(main, ["bench", "--device", "cuda", "--vertices", "300"])
+    assert "'cuda' is not a Warp device of this machine: it has cpu" in _one_error_line(
+        result, "--device"
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "cap"),
+    [
+        ([*EVALUATE, "--episodes", "1000000000"], "--episodes", "must be at most 100000 (a cap"),
+        ([*LEADERBOARD, "--gown-vertices", "1000000"], "--gown-vertices", "must be at most 20000"),
+        (["train", "--gown-vertices", "1000000"], "--gown-vertices", "must be at most 20000"),
+    ],
+)
+def test_enormous_runs_are_refused_up_front_saying_the_cap(tmp_path, args, option, cap):
+    # in a process of at most 3 GB: without the caps, these grew to 4.9 and 9 GB
+    code = (
+        "import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))\n"
+        "from dressbench.cli import main\n"
+        "main(sys.argv[1:])\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code, *args], cwd=tmp_path, capture_output=True, text=True,
+        timeout=120,
+    )  # fmt: skip
+    assert run.returncode == 2, run.stderr[-2000:]
+    (line,) = [line for line in run.stderr.splitlines() if line.startswith("Error: ")]
+    assert line.startswith(f"Error: Invalid value for '{option}': {cap}"), line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_enormous_values_are_refused_by_the_api_too(tmp_path):
+    with pytest.raises(ValueError, match="gown_vertices must be at most 20000"):
+        EnvConfig(gown_vertices=1_000_000)
+    with pytest.raises(ValueError, match="horizon must be from 1 to 100000, got 0"):
+        EnvConfig(horizon=0)
+    with pytest.raises(ValueError, match="workers must be from 1 to 256"):
+        dressbench.evaluate("fixed", "passive", episodes=1, workers=-1, out=tmp_path, **TINY)
+    with pytest.raises(ValueError, match="seed must be from 0 to"):
+        dressbench.leaderboard(episodes=1, seed=-5, out=tmp_path, **TINY)
+    with pytest.raises(ValueError, match="envs must be 0 \\(one per core\\) or from 1 to 256"):
+        TrainConfig(envs=-1)
+    with pytest.raises(ValueError, match="steps must be at least 1, got 0"):
+        bench_scene(300, 0)
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- every path problem is one line ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", ["evaluate", "leaderboard", "train"])
+@pytest.mark.parametrize(
+    ("out", "problem"),
+    [
+        ("a_file", "'a_file' is a file, not a folder"),
+        ("a_file/results", "'a_file/results' cannot be created: '{here}/a_file' is a file"),
+        ("", "must name a folder, got ''"),
+    ],
+)
+def test_an_out_folder_that_cannot_be_one_is_one_line(tmp_path, monkeypatch, command, out, problem):
+    args = {"evaluate": EVALUATE, "leaderboard": LEADERBOARD, "train": ["train"]}[command]
+    tiny = ["--episodes", "1", "--workers", "1", "--gown-vertices", "300"]
+    tiny = {"evaluate": tiny, "leaderboard": [*tiny, "--horizon", "3"], "train": []}[command]
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a_file").write_text("not a folder\n")
+    result = CliRunner().invoke(main, [*args, *tiny, "--out", out])
+    line = _one_error_line(result, "--out")
+    assert line.endswith(problem.format(here=tmp_path)), line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
+
+
+def test_render_into_a_missing_folder_fails_before_rendering(tmp_path, monkeypatch):
+    def no_rendering(*args, **kwargs):
+        raise AssertionError("rendering started")
+
+    monkeypatch.setattr("dressbench.render.Renderer", no_rendering)
+    monkeypatch.setattr("dressbench.make_human_env", no_rendering)
+    target = tmp_path / "missing" / "clip.gif"
+    result = CliRunner().invoke(main, ["render", "--out", str(target), "--gown-vertices", "300"])
+    line = _one_error_line(result, "--out")
+    assert line.endswith(f"cannot be written: the folder '{tmp_path / 'missing'}' does not exist")
+    (tmp_path / "folder.gif").mkdir()
+    for path, problem in [
+        (tmp_path / "clip.avi", "'clip.avi' must end in .gif or .mp4"),
+        (tmp_path / "folder.gif", "is a folder, not a file"),
+    ]:
+        with pytest.raises(ValueError, match=problem):
+            render_rollout("fixed", "passive", path, gown_vertices=300)
+
+
+# --- a failed train leaves no run folder ----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--robot", "fixd"], "Error: unknown robot 'fixd': did you mean 'fixed'?"),
+        (["--robot", "six_pose"], "Error: robot plugin 'six_pose' from acme-robots 1.0 cannot be "
+                                  "trained for: reset returned a pose of shape (6,)"),
+    ],
+)  # fmt: skip
+def test_a_failed_train_leaves_no_run_folder(acme, tmp_path, args, message):
+    runs, models = tmp_path / "runs", tmp_path / "policies"
+    command = ["train", *args, "--envs", "1", "--timesteps", "64", "--gown-vertices", "300",
+               "--out", str(runs), "--policies", str(models)]  # fmt: skip
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 1 and result.output.startswith(message), result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not runs.exists() and not models.exists()
+
+
+def test_a_train_that_fails_before_its_first_checkpoint_removes_its_new_folder(tmp_path):
+    config = TrainConfig(robot="fixed", timesteps=64, envs=1, gown_vertices=300, horizon=4,
+                         out=str(tmp_path / "runs"), policies=str(tmp_path / "policies"),
+                         name="doomed")  # fmt: skip
+    run = TrainingRun(config)
+    run._envs = lambda: (_ for _ in ()).throw(RuntimeError("no envs today"))
+    with pytest.raises(RuntimeError, match="no envs today"):
+        run.run(progress=False)
+    assert list((tmp_path / "runs").iterdir()) == []
