@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from dressbench import plugins
-from dressbench.evaluation import evaluate, leaderboard
+from dressbench.evaluation import evaluate, leaderboard, make_cell
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
 
@@ -50,6 +50,21 @@ def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tm
     logged = pd.read_csv(folder / "logs" / "progress.csv")["curriculum/reach"]
     assert logged.is_monotonic_increasing and logged.iloc[-1] == pytest.approx(reach)
     assert json.loads((folder / "run.json").read_text())["config"]["curriculum"]["share"] == 1.0
+
+
+def test_the_paper_recipe_trains_torques_and_its_policy_is_scored_with_torques(
+    tmp_path, policies_on_path
+):
+    paper = TrainConfig.preset("paper")
+    assert (paper.algo, paper.actuation, paper.samples_per_update) == ("trpo", "torque", 50_000)
+    assert paper.curriculum is None and TrainConfig.preset().actuation == "pd"
+    options = TINY | {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
+    options |= {"timesteps": 128, "samples_per_update": 128}
+    path = train(TrainConfig.preset("paper", **(options | {"name": "paperish"})), progress=False)
+    assert json.loads(path.read_text())["actuation"] == "torque"
+    plugins.refresh()
+    config = make_cell("fixed", "paperish", gown_vertices=600, horizon=8).config()
+    assert config.scene.human.actuation == "torque"
 
 
 def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, policies_on_path):

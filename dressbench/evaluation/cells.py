@@ -139,7 +139,13 @@ def make_cell(robot: str, human: str, policy: HumanPolicy | None = None, **optio
             f"not with ablation={options['ablation']!r}"
         )
     plugins = plugin_identities(robot, human, policy)
-    cell = Cell(robot, human, {**options, "ablation": policy.ablation}, plugins)
+    options = {**options, "ablation": policy.ablation}
+    actuation = getattr(policy, "actuation", "pd")  # a policy of the paper's torques is
+    if actuation != "pd":  # scored with torques
+        from ..scene.world import actuated_scene  # here: importing it loads the physics
+
+        options["scene"] = actuated_scene(actuation, options.get("scene"))
+    cell = Cell(robot, human, options, plugins)
     cell.config()  # an unknown option raises TypeError now
     return cell
 

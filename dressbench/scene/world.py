@@ -8,7 +8,7 @@ Contact forces are summed into the haptic sensors over the policy step and avera
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -37,6 +37,12 @@ class SceneConfig:
     max_distance: float = 3.0  # m from the gripper, a farther cloth vertex means the same
     max_joint_speed: float = 100.0  # rad/s, a faster human joint means the body blew up
     device: str = "cpu"
+
+
+def actuated_scene(actuation: str, scene: SceneConfig | None = None) -> SceneConfig:
+    """``scene`` (default settings if None) with the human driven by ``actuation``."""
+    scene = scene or SceneConfig()
+    return replace(scene, human=replace(scene.human, actuation=actuation))
 
 
 @dataclass

@@ -77,6 +77,7 @@ class TrainedPolicy:
         self.epsilon = epsilon
         self.robot: str | None = metadata["robot"]
         self.ablation: str = metadata["ablation"]
+        self.actuation: str = metadata.get("actuation", "pd")  # what its actions drive
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
         self._hidden = layers[:-1]
         self._action_weight, self._action_bias = layers[-1]

@@ -18,6 +18,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 from tqdm import tqdm
 
 from ..evaluation.io import write_csv
+from ..scene.world import actuated_scene
 from .curriculum import CurriculumLevels, NearStarts
 from .summary import learning_table, write_learning_summary
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
@@ -153,6 +154,7 @@ class TrainingRun:
             "name": cfg.run_name,
             "robot": cfg.robot,
             "ablation": cfg.ablation,
+            "actuation": cfg.actuation,
             "algorithm": cfg.algo,
             "seed": cfg.seed,
             "steps": int(model.num_timesteps),
@@ -180,7 +182,7 @@ class _EnvFactory:
 
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
-                             horizon=cfg.horizon)  # fmt: skip
+                             horizon=cfg.horizon, scene=actuated_scene(cfg.actuation))  # fmt: skip
         keywords = ("arm_progress", "max_deformation", "sim_failure")
         if cfg.curriculum is not None:
             env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)

@@ -33,10 +33,15 @@ ALGORITHMS = ("trpo", "ppo")
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
 
 
+RECIPES = ("default", "paper")
+
+
 @dataclass(frozen=True)
 class TrainConfig:
-    """One training run: what to train for, how, and where it goes."""
+    """One training run: what to train for, how, and where it goes. ``TrainConfig.preset``
+    gives the named recipes (docs/training.md)."""
 
+    recipe: str = "default"  # which preset these settings came from (a label for run.json)
     robot: str = "fixed"
     algo: str = "trpo"  # the paper's TRPO, or "ppo"
     ablation: str = "complete"
@@ -49,6 +54,7 @@ class TrainConfig:
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
+    actuation: str = "pd"  # the human's action: PD targets, or the paper's torques ("torque")
     checkpoint_every: int = 20_000  # environment steps between checkpoints
     curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
     out: str = "runs"
@@ -58,6 +64,8 @@ class TrainConfig:
     def __post_init__(self) -> None:
         if self.algo not in ALGORITHMS:
             raise ValueError(f"unknown algorithm {self.algo!r}: choose one of {ALGORITHMS}")
+        if self.actuation not in ("pd", "torque"):
+            raise ValueError(f"unknown actuation {self.actuation!r}: use 'pd' or 'torque'")
         check_int(self.timesteps, "timesteps", 1)
         check_processes(self.envs, "envs", zero="one per core")
         check_seed(self.seed)
@@ -85,6 +93,18 @@ class TrainConfig:
             origin = robot_plugins()[self.robot].origin
             raise ValueError(f"robot plugin {self.robot!r} from {origin} cannot be trained for: "
                              f"{problem}")  # fmt: skip
+
+    @classmethod
+    def preset(cls, recipe: str = "default", **changes) -> TrainConfig:
+        """A named recipe with ``changes`` on top. "paper" is Clegg et al.'s published setting:
+        TRPO, torque = action x 10 N m, 50,000-sample batches, no curriculum."""
+        if recipe not in RECIPES:
+            raise ValueError(f"unknown recipe {recipe!r}: choose one of {', '.join(RECIPES)}")
+        base = {"recipe": recipe}
+        if recipe == "paper":
+            base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
+                     "curriculum": None}  # fmt: skip
+        return cls(**(base | changes))
 
     @property
     def run_name(self) -> str:
