@@ -157,14 +157,29 @@ def plugins() -> None:
               help="Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).")  # fmt: skip
 @click.option("--resume/--fresh", default=True, show_default=True,
               help="Continue from the run's last checkpoint, or start over.")  # fmt: skip
-def train(resume: bool, **options) -> None:
+@click.option(
+    "--recipe",
+    type=click.Choice(["default", "paper"]),
+    default="default",
+    show_default=True,
+    help="paper: TRPO, torques = action x 10 N m, 50k batches.",
+)
+@click.option(
+    "--curriculum/--no-curriculum",
+    default=None,
+    help="Start some episodes with the hand near the opening (default: the recipe's).",
+)
+def train(resume: bool, recipe: str, curriculum: bool | None, **options) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     import shutil
 
     from .training import TrainConfig
     from .training import train as train_policy
+    from .training.curriculum import CurriculumConfig
 
-    config = TrainConfig(**options)
+    if curriculum is not None:
+        options["curriculum"] = CurriculumConfig() if curriculum else None
+    config = TrainConfig.preset(recipe, **options)
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:
         shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
