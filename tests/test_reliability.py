@@ -582,3 +582,49 @@ def test_a_train_that_fails_before_its_first_checkpoint_removes_its_new_folder(t
     with pytest.raises(RuntimeError, match="no envs today"):
         run.run(progress=False)
     assert list((tmp_path / "runs").iterdir()) == []
+
+
+# --- the docs answer what a third-party author needed --------------------------------------------
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+
+def test_start_poses_are_absolute_in_the_human_frame_as_the_docs_say(acme):
+    env = dressbench.make_env("good_arm", gown_vertices=300, horizon=3)
+    observations, _ = env.reset(seed=0)
+    pose = np.array(env.robot_strategy.pose)
+    np.testing.assert_array_equal(env.scene.gripper_pose, pose)  # not offset by the shoulder
+    np.testing.assert_allclose(observations["robot"][:3], pose[:3], atol=1e-6)
+    robots = (DOCS / "robots.md").read_text()
+    assert "returns an **absolute** pose" in robots and "Poses are relative" not in robots
+
+
+def test_the_documented_order_of_the_human_actions_is_the_bodys():
+    from dressbench.scene.human import Human
+
+    human = Human()
+    skeleton = human.skeleton
+    actuated = [skeleton.getDof(int(i)).getName() for i in human.actuated_index]
+    text = " ".join((DOCS / "plugins.md").read_text().split())
+    listed = text.split("one per actuated degree of freedom, in this order: ")[1].split(" (")[0]
+    assert [name.strip("`,") for name in listed.split()] == actuated
+
+
+def test_the_public_names_the_docs_list_exist():
+    from dressbench import env
+    from dressbench.plugins import protocols, robots
+
+    for module, names in [
+        (protocols, ["ROBOT_MAX_SPEED", "ROBOT_DT", "OBS_TIME"]),
+        (robots, ["RIGHT_SHOULDER", "FRONT", "sample_box", "yaw_quaternion", "LINEAR_DURATION",
+                  "ROBOT_MAX_SPEED", "ROBOT_DT", "OBS_TIME"]),
+        (env, ["WORKSPACE", "QUATERNION_TOLERANCE", "ROBOT_OBS_SIZE", "start_pose_problem"]),
+    ]:  # fmt: skip
+        for name in names:
+            assert hasattr(module, name), f"{module.__name__}.{name}"
+    text = " ".join((DOCS / "plugins.md").read_text().split())
+    for needed in ["`RIGHT_SHOULDER`", "`ROBOT_DT`", "`OBS_TIME`", "`yaw_quaternion(direction)`",
+                   "dressbench.testing", "`check_robot_plugin`", "## Results are cached",
+                   "imports and has the protocol's names, not that it runs",
+                   "Entries outside [−1, 1] are clipped"]:  # fmt: skip
+        assert needed in text, needed
