@@ -118,20 +118,37 @@ def calibrate(episodes: int) -> None:
 
 
 @main.command()
-def plugins() -> None:
+@click.option("--check", is_flag=True, help="Also run each ok plugin once, as evaluations do.")
+def plugins(check: bool) -> None:
     """List every robot strategy and human policy plugin, with its package and status.
 
-    "ok" means the plugin imports and has the protocol's methods and attributes; evaluations
-    also run it once in a small env first (docs/plugins.md).
+    "ok" means the plugin imports and has the protocol's methods and attributes; it is not run.
+    With --check, each ok plugin also gets the preflight of evaluations (one reset and one act
+    in a small env, a policy's metadata; docs/plugins.md), and "FAILS CHECK" says why not.
     """
     from .plugins import all_plugins
 
     rows = all_plugins()
+    failed = _preflight(rows) if check else {}
     click.echo(f"{'group':<7} {'name':<16} {'package':<22} {'version':<9} status")
     for p in rows:
         group = "robot" if p.group.endswith("robots") else "human"
         status = "ok" if p.ok else f"BROKEN: {p.error}"
+        if p.ok and (group, p.name) in failed:
+            status = f"FAILS CHECK: {failed[group, p.name]}"
         click.echo(f"{group:<7} {p.name:<16} {p.package:<22} {p.version:<9} {status}")
+
+
+def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
+    """Why each ok plugin among ``rows`` fails the preflight of evaluations, by (group, name)."""
+    from .evaluation.cells import _instances, plugin_problems
+    from .plugins import human_plugins
+
+    robots = [p.name for p in rows if p.ok and p.group.endswith("robots")]
+    humans = [p.name for p in rows if p.ok and p.group.endswith("humans")]
+    policies, problems = _instances(human_plugins(), humans)
+    problems += plugin_problems(robots, policies)[2]
+    return {(noun, name): why for noun, name, why in problems}
 
 
 @main.command()

@@ -327,6 +327,24 @@ def test_the_cli_names_each_skipped_plugin_on_one_line(mixed, tmp_path):
     ]
 
 
+def test_plugins_lists_them_as_ok_and_with_check_says_which_fail_and_why(mixed):
+    listed = CliRunner().invoke(main, ["plugins"])
+    assert listed.exit_code == 0, listed.output
+    checked = CliRunner().invoke(main, ["plugins", "--check"])
+    assert checked.exit_code == 0, checked.output
+
+    def status(output: str, name: str) -> str:
+        (row,) = [row for row in output.splitlines() if row.split()[1:2] == [name]]
+        return row.split(maxsplit=4)[4] if "policy file" not in row else row.split(" file ")[-1]
+
+    for name in [*BAD_ROBOTS, "ten_person", "sideways", "misfit"]:
+        assert status(listed.output, name).strip() == "ok"  # it imports: that is all
+        expected = SKIPPED[name].format(policies=mixed).split(": ", 1)[1]
+        assert status(checked.output, name).strip().startswith(f"FAILS CHECK: {expected}")
+    for name in ["good_arm", "good_person", "trained", "passive", "fixed"]:
+        assert status(checked.output, name).strip() == "ok"
+
+
 def test_evaluate_refuses_a_plugin_that_fails_its_check_naming_it(mixed, tmp_path):
     with pytest.raises(
         ValueError,
