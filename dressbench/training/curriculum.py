@@ -7,15 +7,16 @@ episode starts uses privileged state, the opening's pose, as a coach placing the
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import gymnasium as gym
 import numpy as np
-from stable_baselines3.common.callbacks import BaseCallback
 
 from ..metrics import feature_plane
-from ..scene.world import Scene
+
+if TYPE_CHECKING:
+    from ..scene.world import Scene
 
 
 @dataclass(frozen=True)
@@ -71,29 +72,3 @@ class NearStarts(gym.Wrapper):
         plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
         tip = plane.centroid - self._distance * plane.normal
         return scene.human.reaching_pose(tip, plane.normal)
-
-
-class CurriculumLevels(BaseCallback):
-    """Widens the near starts when the policy gets the hand in from most of them."""
-
-    def __init__(self, config: CurriculumConfig, reach: float) -> None:
-        super().__init__()
-        self.config = config
-        self.reach = reach
-        self.recent: deque[bool] = deque(maxlen=config.window)
-
-    def _on_training_start(self) -> None:
-        self.training_env.env_method("set_reach", self.reach)
-
-    def _on_step(self) -> bool:
-        for info in self.locals.get("infos", []):
-            episode = info.get("episode")
-            if episode is not None and episode["near_start"] > 0.0:
-                self.recent.append(episode["arm_progress"] >= self.config.hand_in)
-        full = len(self.recent) == self.recent.maxlen
-        if full and np.mean(self.recent) >= self.config.promote_at:
-            self.reach += self.config.step
-            self.recent.clear()
-            self.training_env.env_method("set_reach", self.reach)
-        self.logger.record("curriculum/reach", self.reach)
-        return True

@@ -19,7 +19,7 @@ from tqdm import tqdm
 
 from ..evaluation.io import write_csv
 from ..scene.world import actuated_scene
-from .curriculum import CurriculumLevels, NearStarts
+from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, write_learning_summary
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 
@@ -253,3 +253,29 @@ class _Progress(BaseCallback):
 
     def _on_training_end(self) -> None:
         self.bar.close()
+
+
+class CurriculumLevels(BaseCallback):
+    """Widens the near starts when the policy gets the hand in from most of them."""
+
+    def __init__(self, config: CurriculumConfig, reach: float) -> None:
+        super().__init__()
+        self.config = config
+        self.reach = reach
+        self.recent: deque[bool] = deque(maxlen=config.window)
+
+    def _on_training_start(self) -> None:
+        self.training_env.env_method("set_reach", self.reach)
+
+    def _on_step(self) -> bool:
+        for info in self.locals.get("infos", []):
+            episode = info.get("episode")
+            if episode is not None and episode["near_start"] > 0.0:
+                self.recent.append(episode["arm_progress"] >= self.config.hand_in)
+        full = len(self.recent) == self.recent.maxlen
+        if full and np.mean(self.recent) >= self.config.promote_at:
+            self.reach += self.config.step
+            self.recent.clear()
+            self.training_env.env_method("set_reach", self.reach)
+        self.logger.record("curriculum/reach", self.reach)
+        return True
