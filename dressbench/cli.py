@@ -130,13 +130,23 @@ def plugins(check: bool) -> None:
 
     rows = all_plugins()
     failed = _preflight(rows) if check else {}
-    click.echo(f"{'group':<7} {'name':<16} {'package':<22} {'version':<9} status")
+    table = [("group", "name", "package", "version", "status")]
     for p in rows:
         group = "robot" if p.group.endswith("robots") else "human"
         status = "ok" if p.ok else f"BROKEN: {p.error}"
         if p.ok and (group, p.name) in failed:
             status = f"FAILS CHECK: {failed[group, p.name]}"
-        click.echo(f"{group:<7} {p.name:<16} {p.package:<22} {p.version:<9} {status}")
+        table.append((group, p.name, p.package, p.version, status))
+    for line in aligned(table):
+        click.echo(line)
+
+
+def aligned(rows: list[tuple[str, ...]]) -> list[str]:
+    """Rows as lines of columns padded to their widest cell (the last column is not padded),
+    so long names never push a row out of line."""
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    padded = ([cell.ljust(w) for cell, w in zip(row[:-1], widths, strict=True)] for row in rows)
+    return ["  ".join([*cells, row[-1]]).rstrip() for cells, row in zip(padded, rows, strict=True)]
 
 
 def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
