@@ -200,6 +200,8 @@ def train(resume: bool, recipe: str, curriculum: bool | None, **options) -> None
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     import shutil
 
+    _require_train_extra()
+
     from .training import TrainConfig
     from .training import train as train_policy
     from .training.curriculum import CurriculumConfig
@@ -212,6 +214,24 @@ def train(resume: bool, recipe: str, curriculum: bool | None, **options) -> None
         shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
     path = train_policy(config)
     click.echo(f"policy written to {path}")
+
+
+TRAIN_MODULES = {"torch": "torch", "stable_baselines3": "stable-baselines3",
+                 "sb3_contrib": "sb3-contrib", "tensorboard": "tensorboard"}  # fmt: skip
+
+
+def _require_train_extra() -> None:
+    """Training's packages (the ``train`` extra) are installed, or one line saying what to do."""
+    import importlib.util
+
+    missing = [
+        dist for module, dist in TRAIN_MODULES.items() if not importlib.util.find_spec(module)
+    ]
+    if missing:
+        raise click.ClickException(
+            f"training needs {', '.join(missing)}: pip install 'dressbench[train]' "
+            f"(evaluating and rendering trained humans does not)"
+        )
 
 
 @main.group(invoke_without_command=True)

@@ -105,14 +105,20 @@ def _entry_point_entries(group: str) -> list[_Entry]:
     return entries
 
 
+def shipped_policy_folder() -> Path:
+    """The trained humans that ship inside the dressbench distribution (package data)."""
+    return Path(__file__).resolve().parents[1] / "policies"
+
+
 def policy_folders() -> list[Path]:
     """Where trained human models are looked for: ``DRESSBENCH_POLICIES`` (a path list) if
-    set, else ``policies/`` in the working directory and in the dressbench checkout."""
+    set, else the shipped ones (``dressbench/policies/``) and ``policies/`` in the working
+    directory (a user's own)."""
     configured = os.environ.get("DRESSBENCH_POLICIES")
     if configured:
         folders = [Path(p) for p in configured.split(os.pathsep) if p]
     else:
-        folders = [Path.cwd() / "policies", Path(__file__).resolve().parents[2] / "policies"]
+        folders = [shipped_policy_folder(), Path.cwd() / "policies"]
     unique: dict[Path, None] = {}
     for folder in folders:
         unique.setdefault(folder.resolve(), None)
