@@ -267,7 +267,11 @@ def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_ver
 @click.option("--out", default="results", show_default=True, callback=_FOLDER)
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
-def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out, robots, humans):
+@click.option("--report", is_flag=True,
+              help="Also write OUT/report/index.html (a web page with videos).")  # fmt: skip
+def leaderboard_command(
+    episodes, seed, workers, gown_vertices, horizon, out, robots, humans, report
+):
     """Every robot strategy against the humans trained for it and the baselines.
 
     Finished rollouts in OUT are reused, so a leaderboard can be built a few cells at a time.
@@ -280,6 +284,22 @@ def leaderboard_command(episodes, seed, workers, gown_vertices, horizon, out, ro
                 robots=robots or None, humans=humans or None, gown_vertices=gown_vertices,
                 horizon=horizon)  # fmt: skip
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
+    if report:
+        from .evaluation.webpage import write_report
+
+        click.echo(f"report in {write_report(out)}")
+
+
+@main.command("report")
+@click.argument("results", default="results", type=click.Path(file_okay=False))
+@click.option("--videos/--no-videos", default=True, show_default=True,
+              help="Render (or reuse) one seeded rollout video per cell.")  # fmt: skip
+def report_command(results: str, videos: bool) -> None:
+    """Write RESULTS/report/index.html: a static page of the leaderboard, the success
+    definitions, the plots, a video per cell and the run's metadata (no server needed)."""
+    from .evaluation.webpage import write_report
+
+    click.echo(f"report in {write_report(results, videos=videos)}")
 
 
 @main.command()

@@ -33,6 +33,7 @@ SIDES = 8  # facets around each capsule
 CAP_ANGLES = np.radians([-90.0, -45.0, 0.0, 0.0, 45.0, 90.0])  # latitudes of the capsule rings
 CAP_ENDS = np.array([0, 0, 0, 1, 1, 1])  # the endpoint each ring is centred on
 AXIS_LENGTH = 0.2  # m, drawn length of the approach axis
+RENDER_VERSION = 1  # bumped when videos look different: cached report videos are redrawn
 
 
 @dataclass(frozen=True)

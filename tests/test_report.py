@@ -1,0 +1,147 @@
+"""``dressbench report``: a static page of a results folder, checked in a real headless Chromium.
+
+The results folder is tiny (2 cells, 1 episode, horizon 6, a 300-vertex gown) so the videos
+are a few frames. Chromium comes from the system packages (``apt-get install chromium``; CI
+installs it in ``.ci/run``); this test installs it when missing and it may (root), else skips.
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+
+import pytest
+from click.testing import CliRunner
+
+from dressbench.cli import main
+from dressbench.evaluation import leaderboard
+from dressbench.evaluation.webpage import write_report
+
+HUMANS = ["passive", "scripted"]
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    out = tmp_path_factory.mktemp("results")
+    leaderboard(episodes=1, seed=0, workers=1, out=out, robots=["fixed"], humans=HUMANS,
+                progress=False, horizon=6, gown_vertices=300)  # fmt: skip
+    return out
+
+
+def chromium() -> str:
+    found = shutil.which("chromium") or shutil.which("chromium-browser")
+    if found is None and os.geteuid() == 0 and shutil.which("apt-get"):
+        install = ["apt-get", "install", "-y", "-q", "--no-install-recommends", "chromium"]
+        if subprocess.run(install, capture_output=True).returncode != 0:
+            subprocess.run(["apt-get", "update", "-q"], capture_output=True)
+            subprocess.run(install, capture_output=True)
+        found = shutil.which("chromium")
+    if found is None:
+        pytest.skip("no chromium (apt-get install chromium)")
+    return found
+
+
+# Injected into a copy of the page: record errors (scripts, and images or videos that fail to
+# load), wait for every image and video, sort the table by a column, then write what it saw.
+PROBE = """<script>window.__errors = [];
+addEventListener('error', function (e) {
+  __errors.push(e.message || ('failed to load ' + (e.target.src || e.target.href)));
+}, true);</script>"""
+CHECK = """<script>
+function ready(m) {
+  if (m.tagName === 'IMG') return m.complete ? Promise.resolve() :
+    new Promise(function (r) { m.onload = m.onerror = r; });
+  return m.readyState >= 1 ? Promise.resolve() : new Promise(function (r) {
+    m.addEventListener('loadedmetadata', r); m.addEventListener('error', r); });
+}
+function column(i) {
+  return Array.from(document.querySelectorAll('#leaderboard tbody tr')).map(
+    function (tr) { return tr.cells[i].textContent; });
+}
+addEventListener('load', function () {
+  var media = Array.from(document.querySelectorAll('img, video'));
+  Promise.all(media.map(ready)).then(function () {
+    var ths = document.querySelectorAll('#leaderboard th');
+    ths[1].click(); var up = column(1); ths[1].click(); var down = column(1);
+    ths[5].click(); var deformation = Array.from(document.querySelectorAll(
+      '#leaderboard tbody tr')).map(function (tr) { return +tr.cells[5].dataset.value; });
+    var out = {errors: __errors, rows: column(0).length, up: up, down: down,
+      deformation: deformation,
+      images: Array.from(document.images).map(function (i) {
+        return [i.getAttribute('src'), i.naturalWidth]; }),
+      videos: Array.from(document.querySelectorAll('video')).map(function (v) {
+        return [v.getAttribute('src'), v.videoWidth, v.error && v.error.code]; })};
+    var pre = document.createElement('pre'); pre.id = 'check';
+    pre.textContent = JSON.stringify(out); document.body.appendChild(pre);
+  });
+});
+</script>"""
+
+
+def browse(page, tmp_path) -> dict:
+    """What the page showed in headless Chromium."""
+    probe = page.with_name("check.html")
+    text = page.read_text()
+    probe.write_text(
+        text.replace("<head>", "<head>" + PROBE, 1).replace("</body>", CHECK + "</body>")
+    )
+    command = [chromium(), "--headless", "--no-sandbox", "--disable-gpu",
+               "--disable-background-networking", "--disable-component-update", "--disable-sync",
+               "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}",
+               "--virtual-time-budget=20000", "--dump-dom", probe.as_uri()]  # fmt: skip
+    run = subprocess.run(command, capture_output=True, text=True, timeout=180)
+    probe.unlink()
+    found = re.search(r'<pre id="check">(.*?)</pre>', run.stdout, re.S)
+    assert found, f"no result from chromium: {run.stdout[-2000:]} {run.stderr[-2000:]}"
+    return json.loads(found.group(1).replace("&quot;", '"').replace("&amp;", "&"))
+
+
+def test_the_report_loads_in_a_browser_with_every_row_image_and_video(results, tmp_path):
+    page = write_report(results, progress=False)
+    assert page == results / "report" / "index.html"
+    seen = browse(page, tmp_path)
+    assert seen["errors"] == []
+    assert seen["rows"] == len(HUMANS)  # one row per cell
+    assert seen["up"] == sorted(HUMANS) and seen["down"] == sorted(HUMANS)[::-1]  # sortable
+    assert seen["deformation"] == sorted(seen["deformation"])
+    assert len(seen["images"]) == 2 and all(width > 0 for _, width in seen["images"])
+    assert len(seen["videos"]) == len(HUMANS)
+    assert all(width > 0 and error is None for _, width, error in seen["videos"])
+
+
+def test_the_report_is_self_contained_and_videos_are_cached(results):
+    page = write_report(results, progress=False)
+    text = page.read_text()
+    assert not re.search(r"""(src|href)=["']?(https?:)?//""", text)  # no network at view time
+    for stage in ("hand in", "past the elbow (success)", "dressed", "0.44 m"):
+        assert stage in text
+    meta = json.loads((results / "run_meta.json").read_text())
+    assert meta["versions"]["numpy"] in text and str(meta["seed"]) in text
+    videos = sorted((results / "report" / "videos").glob("*.mp4"))
+    assert len(videos) == len(HUMANS)
+    stamps = [v.stat().st_mtime_ns for v in videos]
+    write_report(results, progress=False)  # reuses them
+    assert [v.stat().st_mtime_ns for v in videos] == stamps
+
+
+def test_a_video_that_fails_to_render_is_a_note(results, tmp_path, monkeypatch):
+    import dressbench.render
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no ffmpeg here")
+
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
+    monkeypatch.setattr(dressbench.render, "render_rollout", broken)
+    text = write_report(copy, progress=False).read_text()
+    assert text.count("video not rendered: RuntimeError: no ffmpeg here") == len(HUMANS)
+    assert "<video" not in text
+
+
+def test_the_cli_writes_the_report_and_prints_its_path(results):
+    run = CliRunner().invoke(main, ["report", str(results), "--no-videos"])
+    assert run.exit_code == 0, run.output
+    assert run.output.strip() == f"report in {results / 'report' / 'index.html'}"
+    bad = CliRunner().invoke(main, ["report", str(results / "nothing")])
+    assert bad.exit_code == 1 and "not a results folder" in bad.output
