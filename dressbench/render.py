@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Rectangle
 from mpl_toolkits.mplot3d import Axes3D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
@@ -33,7 +35,7 @@ SIDES = 8  # facets around each capsule
 CAP_ANGLES = np.radians([-90.0, -45.0, 0.0, 0.0, 45.0, 90.0])  # latitudes of the capsule rings
 CAP_ENDS = np.array([0, 0, 0, 1, 1, 1])  # the endpoint each ring is centred on
 AXIS_LENGTH = 0.2  # m, drawn length of the approach axis
-RENDER_VERSION = 1  # bumped when videos look different: cached report videos are redrawn
+RENDER_VERSION = 2  # bumped when videos look different: cached report videos are redrawn
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,7 @@ class View:
     ylim: tuple[float, float] = (-0.9, 0.6)
     zlim: tuple[float, float] = (-0.6, 1.0)
     zoom: float = 1.5  # the box fills more of the frame than matplotlib's default margin
+    title: str = ""  # drawn at the panel's top left when the frame has several views
 
     def light(self) -> np.ndarray:
         """Unit light direction: from over the camera's shoulder, so visible faces are lit."""
@@ -53,37 +56,55 @@ class View:
         return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
 
 
-class Renderer:
-    """One reusable Agg figure of a fixed size; ``render`` redraws it for each frame."""
+# Videos: two views side by side, a see-through gown, the arm's bones drawn on top.
+FRONT_THREE_QUARTER = View(elev=18.0, azim=-45.0, zoom=1.7, title="front three-quarter")
+SIDE = View(elev=6.0, azim=-90.0, zoom=1.7, title="side (from the right)")
+VIDEO_VIEWS = (FRONT_THREE_QUARTER, SIDE)
+VIDEO_SIZE = (960, 540)
+VIDEO_GOWN_ALPHA = 0.45  # translucent: the arm shows through the sleeve
+ARM_COLOR = (0.55, 0.25, 0.10)  # the right arm's bones (fingertip-wrist-elbow-shoulder)
+BAR_COLOR = (0.15, 0.55, 0.25)  # the progress bar's fill
+ARM_LENGTH = 0.74  # m, hand 0.18 + forearm 0.26 + upper arm 0.30: the bar's full length
+BAR_MARKS = (("hand in", 0.18), ("elbow", 0.44), ("dressed", 0.59))  # the stages' depths
+CAPTION_SHARE = 0.12  # of the height, at the top, for the caption (two lines) with a HUD
+BAR_SHARE = 0.09  # of the height, at the bottom, for the progress bar with a HUD
 
-    def __init__(self, width: int = 480, height: int = 360, view: View = View()) -> None:
+
+class _Panel:
+    """One view of the scene in a rectangle of the figure: its 3-D axes and artists."""
+
+    def __init__(
+        self, figure: Figure, rect: tuple[float, float, float, float], view: View, size: float,
+        gown_alpha: float, arm: bool, titled: bool,
+    ) -> None:  # fmt: skip
         self.view = view
-        self.figure = Figure(figsize=(width / 100, height / 100), dpi=100)
-        self.canvas = FigureCanvasAgg(self.figure)
-        self.axes = _make_axes(self.figure, view)
+        self.gown_alpha = gown_alpha
+        self.axes = _make_axes(figure, view, rect)
         self.solids = Poly3DCollection(
             np.zeros((0, 4, 3)), edgecolors="none", linewidths=0.0, antialiased=False, zorder=1
         )
         self.axes.add_collection3d(self.solids)
-        size = height / 360  # lines, marker and text keep their share of the frame at any size
         (self.loop,) = self.axes.plot([], [], [], color=LOOP_COLOR, lw=2.0 * size, zorder=2)
         (self.axis,) = self.axes.plot([], [], [], color=AXIS_COLOR, lw=2.5 * size, zorder=3)
         (self.gripper,) = self.axes.plot(
             [], [], [], "s", color=GRIPPER, mec="white", mew=size, ms=8 * size, zorder=4
         )
-        self.caption = self.figure.text(
-            0.02, 0.97, "", va="top", family="monospace", fontsize=10 * size, zorder=5
-        )
+        self.arm = None
+        if arm:
+            (self.arm,) = self.axes.plot(
+                [], [], [], "-o", color=ARM_COLOR, lw=1.6 * size, ms=3.5 * size, zorder=5
+            )
+        if titled and view.title:
+            self.axes.text2D(
+                0.03, 0.97, view.title, transform=self.axes.transAxes, va="top",
+                fontsize=9 * size, color=(0.3, 0.3, 0.3), zorder=6,
+            )  # fmt: skip
 
-    def render(self, scene: Scene, caption: str | None = None) -> np.ndarray:
-        """The scene as an (H, W, 3) uint8 RGB image."""
-        x = scene.cloth_positions()
-        body = body_faces(scene.human.capsules(scene.transforms), scene.human.capsule_radius)
-        gown = pad_to_quads(x[scene.gown.triangles])
+    def draw(self, scene: Scene, body: np.ndarray, gown: np.ndarray, x: np.ndarray) -> None:
         light = self.view.light()
         colors = [
             shade(body, SKIN, 1.0, light, two_sided=False),
-            shade(gown, GOWN, GOWN_ALPHA, light, two_sided=True),
+            shade(gown, GOWN, self.gown_alpha, light, two_sided=True),
         ]
         self.solids.set_verts(np.concatenate([body, gown]))
         self.solids.set_facecolor(np.concatenate(colors))
@@ -92,9 +113,125 @@ class Renderer:
         pose = scene.gripper_pose
         self.axis.set_data_3d(*approach_axis(pose, AXIS_LENGTH).T)
         self.gripper.set_data_3d(*pose[:3, None])
+        if self.arm is not None:
+            self.arm.set_data_3d(*scene.arm_chain().T)
+
+
+class Renderer:
+    """One reusable Agg figure of a fixed size; ``render`` redraws it for each frame.
+
+    ``Renderer(width, height, view)`` draws one view (``render_mode="rgb_array"``).
+    ``Renderer(width, height, views=VIDEO_VIEWS, hud=True)`` (see ``video_renderer``) draws
+    the views side by side with a caption area above them and a progress bar of the arm's
+    depth in the sleeve below them; the arm's bones are drawn on top of the gown.
+    """
+
+    def __init__(
+        self,
+        width: int = 480,
+        height: int = 360,
+        view: View = View(),
+        *,
+        views: tuple[View, ...] | None = None,
+        gown_alpha: float = GOWN_ALPHA,
+        hud: bool = False,
+    ) -> None:
+        self.views = tuple(views) if views else (view,)
+        self.view = self.views[0]
+        self.width, self.height = width, height
+        self.figure = Figure(figsize=(width / 100, height / 100), dpi=100)
+        self.canvas = FigureCanvasAgg(self.figure)
+        size = height / 360  # lines, marker and text keep their share of the frame at any size
+        bottom, top = (BAR_SHARE, 1.0 - CAPTION_SHARE) if hud else (0.0, 1.0)
+        share = 1.0 / len(self.views)
+        several = len(self.views) > 1
+        self.panels = [
+            _Panel(
+                self.figure,
+                (i * share, bottom, share, top - bottom),
+                v,
+                size,
+                gown_alpha,
+                arm=hud,
+                titled=several,
+            )  # fmt: skip
+            for i, v in enumerate(self.views)
+        ]
+        self.axes = self.panels[0].axes
+        for i in range(1, len(self.views)):  # a thin rule between the views
+            self.figure.add_artist(
+                Line2D([i * share] * 2, [bottom + 0.02, top - 0.02], color=(0.8, 0.8, 0.8),
+                       lw=size, transform=self.figure.transFigure)
+            )  # fmt: skip
+        self.caption = self.figure.text(
+            0.02 if not hud else 0.015, 0.97 if not hud else 0.985, "", va="top",
+            family="monospace", fontsize=(10 if not hud else 8.5) * size, zorder=5,
+            linespacing=1.3,
+        )  # fmt: skip
+        self.bar = self.bar_fill = self.bar_value = None
+        if hud:
+            self._make_bar(size)
+
+    def _make_bar(self, size: float) -> None:
+        """A thin horizontal gauge of arm progress, 0 to the arm's length, the stages marked."""
+        bar = self.figure.add_axes((0.2, BAR_SHARE * 0.6, 0.6, BAR_SHARE * 0.28))
+        bar.set_xlim(0.0, ARM_LENGTH)
+        bar.set_ylim(0.0, 1.0)
+        bar.set_yticks([])
+        bar.set_xticks([depth for _, depth in BAR_MARKS])
+        bar.set_xticklabels(
+            [f"{name} {depth * 100:.0f}" for name, depth in BAR_MARKS], fontsize=7 * size
+        )
+        bar.tick_params(length=2 * size, pad=1.5 * size)
+        for depth in (d for _, d in BAR_MARKS):
+            bar.axvline(depth, color=(0.4, 0.4, 0.4), lw=0.8 * size)
+        for spine in bar.spines.values():
+            spine.set_linewidth(0.6 * size)
+        bar.set_facecolor((0.93, 0.93, 0.93))
+        self.bar_fill = Rectangle((0.0, 0.0), 0.0, 1.0, color=BAR_COLOR)
+        bar.add_patch(self.bar_fill)
+        self.figure.text(0.19, BAR_SHARE * 0.74, "arm in sleeve (cm)", ha="right", va="center",
+                         fontsize=7 * size)  # fmt: skip
+        self.bar_value = self.figure.text(0.81, BAR_SHARE * 0.74, "", ha="left", va="center",
+                                          fontsize=7 * size, family="monospace")  # fmt: skip
+        self.bar = bar
+
+    def render(
+        self, scene: Scene, caption: str | None = None, progress: float | None = None
+    ) -> np.ndarray:
+        """The scene as an (H, W, 3) uint8 RGB image; ``progress`` (m) fills the bar."""
+        x = scene.cloth_positions()
+        body = body_faces(scene.human.capsules(scene.transforms), scene.human.capsule_radius)
+        gown = pad_to_quads(x[scene.gown.triangles])
+        for panel in self.panels:
+            panel.draw(scene, body, gown, x)
+        if self.bar_fill is not None:
+            depth = min(max(progress or 0.0, 0.0), ARM_LENGTH)
+            self.bar_fill.set_width(depth)
+            self.bar_value.set_text(f"{100.0 * (progress or 0.0):.1f} cm")
         self.caption.set_text(caption or "")
         self.canvas.draw()
         return np.asarray(self.canvas.buffer_rgba())[:, :, :3].copy()
+
+
+def video_renderer(width: int = VIDEO_SIZE[0], height: int = VIDEO_SIZE[1]) -> Renderer:
+    """The renderer of rollout videos: front three-quarter and side views side by side, a
+    translucent gown, the arm's bones, a two-line caption and the progress bar."""
+    return Renderer(width, height, views=VIDEO_VIEWS, gown_alpha=VIDEO_GOWN_ALPHA, hud=True)
+
+
+def rollout_caption(robot: str, human: str, seconds: float, info: dict | None = None) -> str:
+    """Two lines: who, then time, arm progress (cm), max deformation and contact force."""
+    info = info or {}
+    progress = 100.0 * float(info.get("arm_progress", 0.0))
+    deformation = info.get("max_deformation")
+    force = info.get("contact_force")
+    return (
+        f"{robot} / {human}\n"
+        f"t {seconds:5.2f} s   arm progress {progress:5.1f} cm   "
+        f"max deformation {'-' if deformation is None else f'{deformation:.2f}'}   "
+        f"contact force {'-' if force is None else f'{force:.1f} N'}"
+    )
 
 
 def render_frame(
@@ -108,9 +245,12 @@ def render_frame(
     return Renderer(width, height, view).render(scene, caption)
 
 
-def _make_axes(figure: Figure, view: View) -> Axes3D:
-    """Full-frame 3-D axes with equal aspect, fixed limits and camera, and nothing but data."""
-    ax = figure.add_axes((0.0, 0.0, 1.0, 1.0), projection="3d", computed_zorder=False)
+def _make_axes(
+    figure: Figure, view: View, rect: tuple[float, float, float, float] = (0.0, 0.0, 1.0, 1.0)
+) -> Axes3D:
+    """3-D axes in ``rect`` (the full frame by default) with equal aspect, fixed limits and
+    camera, and nothing but data."""
+    ax = figure.add_axes(rect, projection="3d", computed_zorder=False)
     ax.set_xlim(view.xlim)
     ax.set_ylim(view.ylim)
     ax.set_zlim(view.zlim)
@@ -227,6 +367,7 @@ def render_rollout(
     from . import make_human_env
     from .checks import check_int, check_output_file
     from .plugins import load_human
+    from .plugins.protocols import ROBOT_DT
 
     path = check_output_file(path, VIDEO_SUFFIXES, "video")
     _require_writer(path.suffix.lower())
@@ -235,16 +376,16 @@ def render_rollout(
         check_int(fps, "fps", 1)
     policy = load_human(human)
     env = make_human_env(robot, ablation=policy.ablation, **options)
-    observation, _ = env.reset(seed=seed)
+    observation, info = env.reset(seed=seed)
     policy.reset(seed)
-    renderer = Renderer()
-    frames = [renderer.render(env.env.scene, caption="t = 0.00 s")]
+    renderer = video_renderer()
+    scene = env.env.scene
+    frames = [renderer.render(scene, rollout_caption(robot, human, 0.0, info), 0.0)]
     for step in range(1, env.env.config.horizon + 1):
         observation, _, terminated, truncated, info = env.step(policy.act(observation))
         if step % every == 0 or terminated or truncated:
-            seconds, progress = step * 0.04, info["arm_progress"]
-            caption = f"{robot} / {human}  t = {seconds:.2f} s  arm progress {progress:.2f} m"
-            frames.append(renderer.render(env.env.scene, caption=caption))
+            caption = rollout_caption(robot, human, step * ROBOT_DT, info)
+            frames.append(renderer.render(scene, caption, info.get("arm_progress", 0.0)))
         if terminated or truncated:
             break
     save_video(frames, path, fps=fps or round(25 / every))

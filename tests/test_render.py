@@ -105,3 +105,35 @@ def test_unknown_suffix_and_no_frames_are_refused(tmp_path) -> None:
         save_video([np.zeros((H, W, 3), np.uint8)], tmp_path / "clip.avi")
     with pytest.raises(ValueError, match="no frames"):
         save_video([], tmp_path / "clip.gif")
+
+
+def test_video_frames_show_two_views_side_by_side_with_a_caption_that_fits(rest: Scene) -> None:
+    from dressbench.render import VIDEO_SIZE, rollout_caption, video_renderer
+
+    renderer = video_renderer()
+    info = {"arm_progress": 0.123, "max_deformation": 1.5, "contact_force": 12.3}
+    caption = rollout_caption("front_linear", "fixed-complete-trpo-s0", 12.34, info)
+    frame = renderer.render(rest, caption, progress=0.123)
+    width, height = VIDEO_SIZE
+    assert width >= 960 and height >= 540 and frame.shape == (height, width, 3)
+    assert "12.3 cm" in caption and "1.50" in caption and "12.3 N" in caption
+    left, right = frame[:, : width // 2], frame[:, width // 2 :]
+    for half in (left, right):  # each view shows the body and the gown
+        assert pixels_of(half, SKIN) > 0.01 * half.shape[0] * half.shape[1]
+        assert pixels_of(half, GOWN) > 0.005 * half.shape[0] * half.shape[1]
+    assert np.abs(left.astype(int) - right.astype(int)).mean() > 5  # two different cameras
+    assert len(renderer.panels) == 2 and renderer.panels[0].view != renderer.panels[1].view
+    text = renderer.caption.get_window_extent(renderer.canvas.get_renderer())
+    assert 0 <= text.x0 and text.x1 <= width and text.y1 <= height  # the caption is not cut
+    assert renderer.bar_fill.get_width() == pytest.approx(0.123)  # the progress bar
+
+
+def test_rollout_video_is_two_views_at_video_size(tmp_path) -> None:
+    iio = pytest.importorskip("imageio.v3")
+    from dressbench.render import VIDEO_SIZE, render_rollout
+
+    for suffix in (".gif", ".mp4"):
+        path = render_rollout("fixed", "scripted", tmp_path / f"clip{suffix}", every=2,
+                              horizon=4, gown_vertices=300)  # fmt: skip
+        frames = iio.imread(path, index=None)
+        assert frames.shape[1:3] == (VIDEO_SIZE[1], VIDEO_SIZE[0]) and len(frames) >= 2
