@@ -287,19 +287,21 @@ def leaderboard_command(
     if report:
         from .evaluation.webpage import write_report
 
-        click.echo(f"report in {write_report(out)}")
+        click.echo(f"report in {write_report(out, workers=workers or None)}")
 
 
 @main.command("report")
 @click.argument("results", default="results", type=click.Path(file_okay=False))
 @click.option("--videos/--no-videos", default=True, show_default=True,
               help="Render (or reuse) one seeded rollout video per cell.")  # fmt: skip
-def report_command(results: str, videos: bool) -> None:
+@click.option("--workers", default=0, callback=_WORKERS,
+              help="Processes rendering videos (default: one per core).")  # fmt: skip
+def report_command(results: str, videos: bool, workers: int) -> None:
     """Write RESULTS/report/index.html: a static page of the leaderboard, the success
     definitions, the plots, a video per cell and the run's metadata (no server needed)."""
     from .evaluation.webpage import write_report
 
-    click.echo(f"report in {write_report(results, videos=videos)}")
+    click.echo(f"report in {write_report(results, videos=videos, workers=workers or None)}")
 
 
 @main.command()

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Set up dressbench in ./.venv on a fresh machine, then run the main job on small defaults.
+# Set up dressbench in ./.venv on a fresh machine, then run the main job on small defaults
+# (a leaderboard of 5 episodes a cell, and its report: results/quick/report/index.html).
 #   bash scripts/setup.sh            # install + main job
 #   bash scripts/setup.sh --no-run   # install only (what CI does)
 set -euo pipefail
@@ -14,5 +15,6 @@ PYTHON=${PYTHON:-python3}
 # The example third-party plugin package (plugins/), installed as a user would install theirs
 .venv/bin/python -m pip install -q -e plugins/dressbench-arc
 if [ "${1:-}" != "--no-run" ]; then
-    .venv/bin/dressbench evaluate leaderboard --episodes 5 --out results/quick
+    # the main job: a small leaderboard, then its web page (a video per cell); paths printed
+    .venv/bin/dressbench evaluate leaderboard --episodes 5 --out results/quick --report
 fi

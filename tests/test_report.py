@@ -61,7 +61,9 @@ function column(i) {
 }
 addEventListener('load', function () {
   var media = Array.from(document.querySelectorAll('img, video'));
-  Promise.all(media.map(ready)).then(function () {
+  var posters = Array.from(document.querySelectorAll('video')).map(function (v) {
+    var i = new Image(); i.src = v.getAttribute('poster'); return i; });
+  Promise.all(media.concat(posters).map(ready)).then(function () {
     var ths = document.querySelectorAll('#leaderboard th');
     ths[1].click(); var up = column(1); ths[1].click(); var down = column(1);
     ths[5].click(); var deformation = Array.from(document.querySelectorAll(
@@ -70,6 +72,7 @@ addEventListener('load', function () {
       deformation: deformation,
       images: Array.from(document.images).map(function (i) {
         return [i.getAttribute('src'), i.naturalWidth]; }),
+      posters: posters.map(function (i) { return [i.getAttribute('src'), i.naturalWidth]; }),
       videos: Array.from(document.querySelectorAll('video')).map(function (v) {
         return [v.getAttribute('src'), v.videoWidth, v.error && v.error.code]; })};
     var pre = document.createElement('pre'); pre.id = 'check';
@@ -108,6 +111,7 @@ def test_the_report_loads_in_a_browser_with_every_row_image_and_video(results, t
     assert len(seen["images"]) == 2 and all(width > 0 for _, width in seen["images"])
     assert len(seen["videos"]) == len(HUMANS)
     assert all(width > 0 and error is None for _, width, error in seen["videos"])
+    assert len(seen["posters"]) == len(HUMANS) and all(w > 0 for _, w in seen["posters"])
 
 
 def test_the_report_is_self_contained_and_videos_are_cached(results):
@@ -120,6 +124,9 @@ def test_the_report_is_self_contained_and_videos_are_cached(results):
     assert meta["versions"]["numpy"] in text and str(meta["seed"]) in text
     videos = sorted((results / "report" / "videos").glob("*.mp4"))
     assert len(videos) == len(HUMANS)
+    for video in videos:  # each with its still, shown before it plays
+        assert video.with_suffix(".png").stat().st_size > 0
+        assert f'poster="videos/{video.with_suffix(".png").name}"' in text
     stamps = [v.stat().st_mtime_ns for v in videos]
     write_report(results, progress=False)  # reuses them
     assert [v.stat().st_mtime_ns for v in videos] == stamps
@@ -145,3 +152,12 @@ def test_the_cli_writes_the_report_and_prints_its_path(results):
     assert run.output.strip() == f"report in {results / 'report' / 'index.html'}"
     bad = CliRunner().invoke(main, ["report", str(results / "nothing")])
     assert bad.exit_code == 1 and "not a results folder" in bad.output
+
+
+def test_videos_render_in_worker_processes(results, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
+    text = write_report(copy, workers=2, progress=False).read_text()
+    videos = sorted((copy / "report" / "videos").glob("*.mp4"))
+    assert len(videos) == len(HUMANS) and text.count("<video") == len(HUMANS)
+    assert not list((copy / "report" / "videos").glob(".*partial*"))

@@ -12,17 +12,22 @@ from __future__ import annotations
 
 import html
 import json
+import multiprocessing
 import os
 import shutil
 import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from .io import slug, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
+from .workers import exit_with_parent
 
 REPORT_FOLDER = "report"
 VIDEO_SUFFIX = ".mp4"
@@ -33,13 +38,15 @@ def write_report(
     results: str | os.PathLike = "results",
     *,
     videos: bool = True,
+    workers: int | None = 1,
     progress: bool = True,
 ) -> Path:
     """Write ``results/report/index.html`` from a results folder; returns the page's path.
 
     ``results`` must hold ``leaderboard.csv`` and ``run_meta.json`` (what ``leaderboard`` and
     ``evaluate`` write). With ``videos`` each cell gets its seeded rollout video (rendered
-    unless cached); ``progress`` prints one line per video rendered.
+    unless cached), in ``workers`` processes (None: one per core; 1: this process);
+    ``progress`` prints one line per video rendered.
     """
     results = Path(results)
     for name in ("leaderboard.csv", "run_meta.json"):
@@ -58,8 +65,7 @@ def write_report(
     clips = {}
     if videos:
         (folder / "videos").mkdir(exist_ok=True)
-        for row in board.itertuples():
-            clips[_cell_key(row)] = cell_video(folder, row, meta, progress)
+        clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
     write_text(page, report_html(board, meta, images, clips))
     return page
@@ -77,34 +83,111 @@ def _rollout_folder(row: Any, meta: dict[str, Any]) -> str:
     return f"{slug(str(row.robot))}__{slug(str(row.human))}-{row.config_id}"
 
 
-def cell_video(
-    folder: Path, row: Any, meta: dict[str, Any], progress: bool = False
-) -> tuple[str | None, str]:
-    """``(relative path, note)`` of a cell's video in ``folder/videos``, rendered if missing;
-    ``(None, why)`` if rendering fails."""
-    from ..render import RENDER_VERSION, render_rollout
+@dataclass(frozen=True)
+class VideoTask:
+    """One cell's video: which rollout, and where it goes (``path`` relative to ``folder``)."""
+
+    robot: str
+    human: str
+    seed: int
+    options: tuple[tuple[str, Any], ...]  # horizon, gown_vertices, device
+    folder: Path
+    path: str
+
+
+def _video_task(folder: Path, row: Any, meta: dict[str, Any]) -> VideoTask:
+    from ..render import RENDER_VERSION
 
     seed = episode_seed(int(meta.get("seed", row.seed)), 0)
     name = f"{_rollout_folder(row, meta)}-seed{seed}-r{RENDER_VERSION}{VIDEO_SUFFIX}"
-    path = folder / "videos" / name
-    note = (
-        f"episode 0 (seed {seed}), horizon {row.horizon}, {row.gown_vertices}-vertex gown, "
-        f"device {row.device}"
+    options = (("horizon", int(row.horizon)), ("gown_vertices", int(row.gown_vertices)),
+               ("device", str(row.device)))  # fmt: skip
+    return VideoTask(str(row.robot), str(row.human), seed, options, folder, f"videos/{name}")
+
+
+def _note(task: VideoTask) -> str:
+    options = dict(task.options)
+    return (
+        f"episode 0 (seed {task.seed}), horizon {options['horizon']}, "
+        f"{options['gown_vertices']}-vertex gown, device {options['device']}"
     )
+
+
+def render_video(task: VideoTask) -> tuple[str | None, str]:
+    """``(relative path, note)`` of a cell's video, rendered unless it exists; ``(None, why)``
+    if rendering fails. Written to a hidden partial file first, so a killed run leaves no
+    half video under the final name."""
+    from .. import render
+
+    path = task.folder / task.path
     if not path.is_file():
-        if progress:
-            print(f"dressbench report: rendering {row.robot} / {row.human}", file=sys.stderr)
         partial = path.with_name(f".{path.stem}.partial{VIDEO_SUFFIX}")
         try:
-            render_rollout(str(row.robot), str(row.human), partial, seed=seed,
-                           horizon=int(row.horizon), gown_vertices=int(row.gown_vertices),
-                           device=str(row.device))  # fmt: skip
+            render.render_rollout(task.robot, task.human, partial, seed=task.seed,
+                                  **dict(task.options))  # fmt: skip
+            write_poster(partial, path.with_suffix(".png"))
             partial.replace(path)
         except Exception as error:  # any failure: the page says so and goes on
             partial.unlink(missing_ok=True)
             reason = str(error).strip().splitlines()[0] if str(error).strip() else ""
             return None, f"video not rendered: {type(error).__name__}: {reason}"
-    return f"videos/{name}", note
+    elif not path.with_suffix(".png").is_file():
+        try:  # a video of an earlier report without its still
+            write_poster(path, path.with_suffix(".png"))
+        except Exception:  # the video plays without it
+            pass
+    return task.path, _note(task)
+
+
+def write_poster(video: Path, poster: Path, at: float = 0.6) -> None:
+    """Save the frame ``at`` (a share of the clip) of an MP4 as a PNG: the still the page
+    shows before the video plays."""
+    import imageio.v3 as iio
+    import imageio_ffmpeg
+
+    count = imageio_ffmpeg.count_frames_and_secs(str(video))[0]
+    target = int(at * max(count - 1, 0))
+    frames = imageio_ffmpeg.read_frames(str(video))
+    meta = next(frames)
+    width, height = meta["size"]
+    try:
+        for index, frame in enumerate(frames):
+            if index == target:
+                image = np.frombuffer(frame, np.uint8).reshape(height, width, 3)
+                iio.imwrite(poster, image)
+                return
+    finally:
+        frames.close()
+
+
+def _cell_videos(
+    folder: Path, board: pd.DataFrame, meta: dict[str, Any], workers: int | None, progress: bool
+) -> dict[tuple[str, str, str], tuple[str | None, str]]:
+    """Every cell's ``(path, note)``: cached videos reused, the others rendered."""
+    tasks = {_cell_key(row): _video_task(folder, row, meta) for row in board.itertuples()}
+    clips = {key: (task.path, _note(task)) for key, task in tasks.items()
+             if (folder / task.path).is_file()
+             and (folder / task.path).with_suffix(".png").is_file()}  # fmt: skip
+    missing = {key: task for key, task in tasks.items() if key not in clips}
+    workers = min(workers or os.cpu_count() or 1, max(len(missing), 1))
+
+    def report(key: tuple[str, str, str]) -> None:
+        if progress:
+            print(f"dressbench report: rendered {key[0]} / {key[1]}", file=sys.stderr)
+
+    if workers == 1:
+        for key, task in missing.items():
+            clips[key] = render_video(task)
+            report(key)
+    else:
+        context = multiprocessing.get_context("spawn")  # as evaluations: fork is unsafe
+        with ProcessPoolExecutor(workers, mp_context=context, initializer=exit_with_parent,
+                                 initargs=(os.getpid(),)) as pool:  # fmt: skip
+            futures = {pool.submit(render_video, task): key for key, task in missing.items()}
+            for future in as_completed(futures):
+                clips[futures[future]] = future.result()
+                report(futures[future])
+    return {key: clips[key] for key in tasks}  # in the leaderboard's order
 
 
 # --- the page -----------------------------------------------------------------------------------
@@ -182,9 +265,10 @@ def report_html(
     for key, (src, note) in clips.items():
         title = f"{key[0]} / {key[1]}"
         if src:
+            poster = Path(src).with_suffix(".png").as_posix()
             body = (
-                f'<video controls muted loop playsinline preload="metadata" src="{e(src)}">'
-                f"</video><figcaption>{e(title)}: {e(note)}</figcaption>"
+                f'<video controls muted loop playsinline preload="metadata" src="{e(src)}" '
+                f'poster="{e(poster)}"></video><figcaption>{e(title)}: {e(note)}</figcaption>'
             )
         else:
             body = f'<p class="note">{e(title)}: {e(note)}</p>'
@@ -259,10 +343,13 @@ PAGE = """<!doctype html>
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{title}</title>
 <style>
-body {{ font: 15px/1.45 system-ui, sans-serif; margin: 1.5em auto; max-width: 1200px;
+body {{ font: 15px/1.45 system-ui, sans-serif; margin: 1.5em auto; max-width: 1400px;
        padding: 0 1em; color: #222; }}
 table {{ border-collapse: collapse; margin: 0.5em 0 1em; }}
 th, td {{ border-bottom: 1px solid #ddd; padding: 0.3em 0.6em; text-align: left; }}
+.scroll {{ overflow-x: auto; }}
+#leaderboard {{ font-size: 0.85em; }}
+#leaderboard td {{ white-space: nowrap; }}
 #leaderboard th {{ cursor: pointer; background: #f2f4f8; user-select: none; }}
 #leaderboard th[data-order=asc]::after {{ content: " \\25B2"; }}
 #leaderboard th[data-order=desc]::after {{ content: " \\25BC"; }}
@@ -280,7 +367,9 @@ pre {{ background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }}
 <h1>{title}</h1>
 <p>Settings: {settings}. Click a column's header to sort by it.</p>
 <h2>Leaderboard</h2>
+<div class="scroll">
 <table id="leaderboard"><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>
+</div>
 <p>Each cell is a robot strategy x a human model over seeded rollouts: mean ± sample std and,
 in brackets, the confidence interval of the mean ({interval}); rates carry their 95% Wilson
 interval. Arm progress is the arm's depth in the sleeve (m); max deformation is the largest
