@@ -7,6 +7,7 @@ of links to the rest). Then, from a folder outside the checkout, ``dressbench pl
 the shipped human and a one-episode, short evaluation of it runs without importing torch.
 """
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -36,8 +37,10 @@ def _run(args, **kwargs) -> subprocess.CompletedProcess:
 def user_venv(tmp_path_factory) -> Path:
     """A fresh venv with the wheel installed and no torch."""
     root = tmp_path_factory.mktemp("wheel")
-    _run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "--no-build-isolation",
-          "-q", "-w", str(root / "dist")])  # fmt: skip
+    # without build isolation when setuptools is here (Python < 3.12 venvs have it): no download
+    isolation = [] if importlib.util.find_spec("setuptools") is None else ["--no-build-isolation"]
+    _run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", *isolation, "-q",
+          "-w", str(root / "dist")])  # fmt: skip
     (wheel,) = (root / "dist").glob("dressbench-*.whl")
     deps = root / "deps"
     deps.mkdir()
