@@ -66,7 +66,7 @@ ARM_COLOR = (0.55, 0.25, 0.10)  # the right arm's bones (fingertip-wrist-elbow-s
 BAR_COLOR = (0.15, 0.55, 0.25)  # the progress bar's fill
 ARM_LENGTH = 0.74  # m, hand 0.18 + forearm 0.26 + upper arm 0.30: the bar's full length
 BAR_MARKS = (("hand in", 0.18), ("elbow", 0.44), ("dressed", 0.59))  # the stages' depths
-CAPTION_SHARE = 0.12  # of the height, at the top, for the caption (two lines) with a HUD
+CAPTION_SHARE = 0.16  # of the height, at the top: the caption (two lines), the views' titles
 BAR_SHARE = 0.09  # of the height, at the bottom, for the progress bar with a HUD
 
 
@@ -94,10 +94,11 @@ class _Panel:
             (self.arm,) = self.axes.plot(
                 [], [], [], "-o", color=ARM_COLOR, lw=1.6 * size, ms=3.5 * size, zorder=5
             )
-        if titled and view.title:
-            self.axes.text2D(
-                0.03, 0.97, view.title, transform=self.axes.transAxes, va="top",
-                fontsize=9 * size, color=(0.3, 0.3, 0.3), zorder=6,
+        if titled and view.title:  # just above the panel, where the body never reaches
+            left, bottom, _, height = rect
+            figure.text(
+                left + 0.015, bottom + height + 0.005, view.title, va="bottom",
+                fontsize=8 * size, color=(0.35, 0.35, 0.35), zorder=6,
             )  # fmt: skip
 
     def draw(self, scene: Scene, body: np.ndarray, gown: np.ndarray, x: np.ndarray) -> None:
