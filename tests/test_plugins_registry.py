@@ -8,14 +8,12 @@ import importlib.metadata
 import os
 import subprocess
 import sys
-from collections.abc import Iterator
-from pathlib import Path
 
 import numpy as np
 import pytest
+from fakes import install
 
 from dressbench import plugins
-from dressbench.plugins import registry
 
 ROBOTS = f"[{plugins.ROBOT_GROUP}]"  # entry_points.txt section headers
 HUMANS = f"[{plugins.HUMAN_GROUP}]"
@@ -47,36 +45,6 @@ class Human:
     def act(self, observation):
         return np.zeros(11)
 """
-
-
-@pytest.fixture
-def site(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """A fresh folder on ``sys.path`` for fake distributions; their modules are forgotten after."""
-    root = tmp_path / "site"
-    root.mkdir()
-    monkeypatch.syspath_prepend(str(root))
-    registry.refresh()
-    yield root
-    for name, module in list(sys.modules.items()):
-        if str(getattr(module, "__file__", None) or "").startswith(str(root)):
-            del sys.modules[name]
-    registry.refresh()
-
-
-def install(
-    root: Path, package: str, version: str, entry_points: dict[str, dict[str, str]], **modules: str
-) -> None:
-    """Write a fake distribution: metadata, ``entry_points.txt`` and top-level modules."""
-    info = root / f"{package.replace('-', '_')}-{version}.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {package}\nVersion: {version}\n")
-    sections = [
-        "\n".join([section, *(f"{name} = {value}" for name, value in eps.items())])
-        for section, eps in entry_points.items()
-    ]
-    (info / "entry_points.txt").write_text("\n\n".join(sections) + "\n")
-    for module, source in modules.items():
-        (root / f"{module}.py").write_text(source)
 
 
 def test_third_party_robot_and_human_are_found_with_package_and_version_and_load_fresh(site):

@@ -12,13 +12,13 @@ import stat
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
 import safetensors.numpy
 from click.testing import CliRunner
+from fakes import install
 
 import dressbench
 from dressbench import plugins
@@ -185,36 +185,6 @@ BAD_ROBOTS = {
     "outside": "acme_robots:Outside",
     "two_action": "acme_robots:TwoAction",
 }
-
-
-@pytest.fixture
-def site(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """A fresh folder on ``sys.path`` for fake distributions; their modules are forgotten after."""
-    root = tmp_path / "site"
-    root.mkdir()
-    monkeypatch.syspath_prepend(str(root))
-    plugins.refresh()
-    yield root
-    for name, module in list(sys.modules.items()):
-        if str(getattr(module, "__file__", None) or "").startswith(str(root)):
-            del sys.modules[name]
-    plugins.refresh()
-
-
-def install(
-    root: Path, package: str, version: str, entry_points: dict[str, dict[str, str]], **modules: str
-) -> None:
-    """Write a fake distribution: metadata, ``entry_points.txt`` and top-level modules."""
-    info = root / f"{package.replace('-', '_')}-{version}.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {package}\nVersion: {version}\n")
-    sections = [
-        "\n".join([section, *(f"{name} = {value}" for name, value in eps.items())])
-        for section, eps in entry_points.items()
-    ]
-    (info / "entry_points.txt").write_text("\n\n".join(sections) + "\n")
-    for module, source in modules.items():
-        (root / f"{module}.py").write_text(source)
 
 
 @pytest.fixture
