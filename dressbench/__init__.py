@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from .env import DressingEnv
     from .single_agent import HumanEnv
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 __all__ = [
     "ENV_ID",
     "evaluate",
