@@ -2,6 +2,22 @@
 
 from pathlib import Path
 
+# A minimal human plugin module: the zero action, generic, complete observation.
+HUMAN_MODULE = """
+import numpy as np
+
+class Human:
+    api_version = 1
+    robot = None
+    ablation = "complete"
+
+    def reset(self, seed=None):
+        pass
+
+    def act(self, observation):
+        return np.zeros(11)
+"""
+
 
 def install(
     root: Path, package: str, version: str, entry_points: dict[str, dict[str, str]], **modules: str

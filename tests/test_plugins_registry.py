@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 import pytest
-from fakes import install
+from fakes import HUMAN_MODULE, install
 
 from dressbench import plugins
 
@@ -29,21 +29,6 @@ class Robot:
 
     def act(self, observation):
         return np.zeros(3)
-"""
-
-HUMAN_MODULE = """
-import numpy as np
-
-class Human:
-    api_version = 1
-    robot = None
-    ablation = "complete"
-
-    def reset(self, seed=None):
-        pass
-
-    def act(self, observation):
-        return np.zeros(11)
 """
 
 

@@ -14,6 +14,7 @@ import sys
 import time
 from pathlib import Path
 
+import fakes
 import numpy as np
 import pytest
 import safetensors.numpy
@@ -160,24 +161,14 @@ class TwoAction(Robot):
     action = [0.0, 1.0]
 """
 
-HUMAN_MODULE = """
-import numpy as np
-
-class Human:
-    api_version = 1
-    robot = None
-    ablation = "complete"
-
-    def reset(self, seed=None):
-        pass
-
-    def act(self, observation):
-        return np.zeros(11)
-
+HUMAN_MODULE = (
+    fakes.HUMAN_MODULE
+    + """
 class Ten(Human):
     def act(self, observation):
         return np.zeros(10)
 """
+)
 
 BAD_ROBOTS = {
     "six_pose": "acme_robots:SixPose",
