@@ -196,7 +196,15 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     default=None,
     help="Start some episodes with the hand near the opening (default: the recipe's).",
 )
-def train(resume: bool, recipe: str, curriculum: bool | None, **options) -> None:
+@click.option(
+    "--haptics",
+    type=click.Choice(["log", "newtons"]),
+    default=None,
+    help="How the policy reads contact forces (default: the recipe's; paper: newtons).",
+)
+def train(
+    resume: bool, recipe: str, curriculum: bool | None, haptics: str | None, **options
+) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     import shutil
 
@@ -208,6 +216,8 @@ def train(resume: bool, recipe: str, curriculum: bool | None, **options) -> None
 
     if curriculum is not None:
         options["curriculum"] = CurriculumConfig() if curriculum else None
+    if haptics is not None:
+        options["haptics"] = haptics
     config = TrainConfig.preset(recipe, **options)
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:

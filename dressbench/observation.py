@@ -3,18 +3,24 @@
 Order: cos q (22), sin q (22), q-dot (22), feature centroid (3), fingertip - centroid (3),
 haptic forces (22 x 3), contact surface signs (22), task vector (3). The ablations drop blocks:
 ``no_haptics`` the forces and signs (75 numbers left), ``no_task`` the task vector (160).
+A learned policy may read the forces on a log scale (``scale_haptics``), a choice it records.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from .scene.world import Scene
-from .state import DressingState
+if TYPE_CHECKING:  # annotations only: the layout and scaling load without the physics
+    from .scene.world import Scene
+    from .state import DressingState
 
 ABLATIONS = ("complete", "no_haptics", "no_task")
+HAPTIC_SCALES = ("newtons", "log")  # the forces as measured (the paper), or log(1 + |f| / 1 N)
 N_DOFS = 22
 N_SENSORS = 22
+FORCES = slice(3 * N_DOFS + 6, 3 * N_DOFS + 6 + 3 * N_SENSORS)  # where the forces sit
 
 
 def observation_size(ablation: str = "complete") -> int:
@@ -31,6 +37,30 @@ def observation_size(ablation: str = "complete") -> int:
 def check_ablation(ablation: str) -> None:
     if ablation not in ABLATIONS:
         raise ValueError(f"unknown ablation {ablation!r}: choose one of {', '.join(ABLATIONS)}")
+
+
+def check_haptic_scale(scale: str) -> None:
+    if scale not in HAPTIC_SCALES:
+        choices = ", ".join(HAPTIC_SCALES)
+        raise ValueError(f"unknown haptic scale {scale!r}: choose one of {choices}")
+
+
+def scale_haptics(observation: np.ndarray, ablation: str, scale: str) -> np.ndarray:
+    """``observation`` (any leading shape) with its haptic forces on ``scale``.
+
+    "log" keeps each sensor force's direction and maps its magnitude to log(1 + |f| / 1 N): a
+    rigid rim's hundreds of newtons and cloth's single newtons on skin then share one range, which
+    a running normalisation of the raw forces (dominated by the rare rim spikes) does not give.
+    """
+    check_haptic_scale(scale)
+    if scale == "newtons" or ablation == "no_haptics":
+        return observation
+    out = np.array(observation, dtype=np.float32)
+    forces = out[..., FORCES].reshape(*out.shape[:-1], N_SENSORS, 3)
+    magnitude = np.linalg.norm(forces, axis=-1, keepdims=True)
+    factor = np.log1p(magnitude) / np.maximum(magnitude, 1e-12)
+    out[..., FORCES] = (forces * factor).reshape(*out.shape[:-1], 3 * N_SENSORS)
+    return out
 
 
 def surface_signs(sides: np.ndarray, forces: np.ndarray, eps: float = 1e-9) -> np.ndarray:

@@ -17,6 +17,7 @@ from sb3_contrib import TRPO
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
+from dressbench.observation import scale_haptics
 from dressbench.plugins.protocols import HumanPolicy
 from dressbench.training import (
     PolicyFileError,
@@ -127,6 +128,26 @@ def test_trpo_policy_acts_like_sb3(trpo, saved: Path) -> None:
     assert isinstance(policy, HumanPolicy)
     assert policy.act(_observations()[0]).shape == (11,)
     _assert_matches_sb3(policy, model, venv)
+
+
+def test_a_policy_that_read_log_forces_applies_the_log_scale_itself(trpo, tmp_path: Path) -> None:
+    model, venv = trpo
+    policy = load_policy(_save(tmp_path / "log", model, venv, haptics="log"))
+    assert policy.haptics == "log"
+    for obs in _observations():
+        scaled = scale_haptics(obs, "complete", "log")
+        expected = model.predict(venv.normalize_obs(scaled), deterministic=True)[0]
+        np.testing.assert_allclose(policy.act(obs), expected, atol=1e-5, rtol=0)
+
+
+def test_a_policy_file_without_a_haptic_scale_read_newtons(saved: Path) -> None:
+    assert load_policy(saved).haptics == "newtons"  # files written before the log scale
+
+
+def test_an_unknown_haptic_scale_fails_to_load(saved: Path) -> None:
+    _rewrite_json(saved, lambda document: document.update(haptics="kg"))
+    with pytest.raises(PolicyFileError, match="haptics must be 'newtons' or 'log'"):
+        load_policy(saved)
 
 
 def test_actions_are_clipped_like_sb3(trpo, tmp_path: Path) -> None:

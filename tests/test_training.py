@@ -38,6 +38,15 @@ def policies_on_path(tmp_path, monkeypatch):
 def test_timesteps_are_honoured_as_given_not_rounded_up_to_a_whole_update(tmp_path):
     path = train(tiny_config(tmp_path, timesteps=200, name="exact"), progress=False)
     assert json.loads(path.read_text())["steps"] == 200  # updates are of 128 samples
+    short = train(tiny_config(tmp_path, timesteps=100, name="short"), progress=False)
+    assert json.loads(short.read_text())["steps"] == 100  # less than one update: exported as is
+
+
+def test_run_json_records_steps_wall_time_and_speed(tmp_path):
+    train(tiny_config(tmp_path, timesteps=256, name="timed"), progress=False)
+    result = json.loads((tmp_path / "runs" / "timed" / "run.json").read_text())["result"]
+    assert result["steps"] == 256 and result["training_seconds"] > 0
+    assert result["env_steps_per_second"] == pytest.approx(256 / result["training_seconds"], 0.01)
 
 
 def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path):
@@ -58,10 +67,12 @@ def test_the_paper_recipe_trains_torques_and_its_policy_is_scored_with_torques(
     paper = TrainConfig.preset("paper")
     assert (paper.algo, paper.actuation, paper.samples_per_update) == ("trpo", "torque", 50_000)
     assert paper.curriculum is None and TrainConfig.preset().actuation == "pd"
+    assert (paper.haptics, TrainConfig.preset().haptics) == ("newtons", "log")
     options = TINY | {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
     options |= {"timesteps": 128, "samples_per_update": 128}
     path = train(TrainConfig.preset("paper", **(options | {"name": "paperish"})), progress=False)
     assert json.loads(path.read_text())["actuation"] == "torque"
+    assert json.loads(path.read_text())["haptics"] == "newtons"  # the paper's raw forces
     plugins.refresh()
     config = make_cell("fixed", "paperish", gown_vertices=600, horizon=8).config()
     assert config.scene.human.actuation == "torque"
@@ -72,6 +83,7 @@ def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, p
     meta = json.loads(path.read_text())
     assert meta["robot"] == "fixed" and meta["algorithm"] == "trpo" and meta["steps"] >= 256
     assert meta["seed"] == 0 and "versions" in meta and "git_commit" in meta
+    assert meta["haptics"] == "log" and load_policy(path).haptics == "log"  # the default recipe
     logs = tmp_path / "runs" / "tiny" / "logs"
     assert (logs / "progress.csv").exists()
     assert any(f.name.startswith("events.out.tfevents") for f in logs.iterdir())

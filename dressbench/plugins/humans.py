@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..observation import N_DOFS, N_SENSORS
+from ..observation import FORCES, N_DOFS
 
 
 class Passive:
@@ -136,8 +136,7 @@ class Scripted:
         """+1 without haptic force, falling to -1 (moving back) at ``back_off_force``."""
         if self.ablation == "no_haptics":
             return 1.0
-        start = 3 * N_DOFS + 6
-        forces = obs[start : start + 3 * N_SENSORS].reshape(-1, 3)
+        forces = obs[FORCES].reshape(-1, 3)
         force = float(np.linalg.norm(forces.sum(axis=0)))
         return 1.0 - 2.0 * min(force / self.back_off_force, 1.0)
 

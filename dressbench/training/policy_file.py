@@ -26,6 +26,8 @@ import numpy as np
 import safetensors.numpy
 from safetensors import SafetensorError
 
+from ..observation import HAPTIC_SCALES, check_haptic_scale, scale_haptics
+
 if TYPE_CHECKING:
     from stable_baselines3.common.on_policy_algorithm import OnPolicyAlgorithm
     from stable_baselines3.common.policies import ActorCriticPolicy
@@ -78,6 +80,7 @@ class TrainedPolicy:
         self.robot: str | None = metadata["robot"]
         self.ablation: str = metadata["ablation"]
         self.actuation: str = metadata.get("actuation", "pd")  # what its actions drive
+        self.haptics: str = metadata.get("haptics", "newtons")  # how it reads the forces
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
         self._hidden = layers[:-1]
         self._action_weight, self._action_bias = layers[-1]
@@ -100,6 +103,7 @@ class TrainedPolicy:
                 f"policy {self.name!r} expects an observation of shape ({self.obs_dim},), "
                 f"got {obs.shape}"
             )
+        obs = scale_haptics(obs, self.ablation, self.haptics)
         x = np.clip((obs - self._obs_mean) / self._obs_std, -self.clip_obs, self.clip_obs)
         for weight, bias in self._hidden:
             x = np.tanh(weight @ x + bias)
@@ -234,6 +238,7 @@ def _check_metadata(metadata: dict[str, Any]) -> None:
         raise ValueError("metadata must name the 'ablation' (a string)")
     if "robot" not in metadata or not isinstance(metadata["robot"], (str, type(None))):
         raise ValueError("metadata must name the 'robot' (a string, or None for any robot)")
+    check_haptic_scale(metadata.get("haptics", "newtons"))
 
 
 def _to_json(document: dict[str, Any]) -> str:
@@ -384,6 +389,10 @@ def _schema_problem(document: dict[str, Any]) -> str | None:
             return f"{where} is missing"
         if not valid(value):
             return f"{where} must be {wanted}, found {value!r}"
+    for keys, valid, wanted in _OPTIONAL_FIELDS:
+        value = _field(document, keys)
+        if value is not _MISSING and not valid(value):
+            return f"{'.'.join(keys)} must be {wanted}, found {value!r}"
     return None
 
 
@@ -494,6 +503,11 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("tensors", "size"), _is_positive_int, "an integer > 0"),
     (("ablation",), lambda v: isinstance(v, str), "a string"),
     (("robot",), lambda v: v is None or isinstance(v, str), "a string or null"),
+)
+# Fields a version-1 JSON may leave out (older files): checked only where present.
+_OPTIONAL_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
+    (("haptics",), lambda v: v in HAPTIC_SCALES, " or ".join(map(repr, HAPTIC_SCALES))),
+    (("actuation",), lambda v: v in ("pd", "torque"), "'pd' or 'torque'"),
 )
 
 

@@ -20,8 +20,9 @@ from tqdm import tqdm
 from ..evaluation.io import write_csv
 from ..scene.world import actuated_scene
 from .curriculum import CurriculumConfig, NearStarts
-from .summary import learning_table, write_learning_summary
+from .summary import learning_table, training_seconds, write_learning_table
 from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
+from .wrappers import ScaledHaptics
 
 
 class TrainingRun:
@@ -61,8 +62,8 @@ class TrainingRun:
             raise
 
     def _run(self, progress: bool) -> Path:
-        write_json_atomic(self.folder / "run.json", {"config": asdict(self.config),
-                                                     "versions": versions()})  # fmt: skip
+        run_json = {"config": asdict(self.config), "versions": versions()}
+        write_json_atomic(self.folder / "run.json", run_json)
         venv = self._envs()
         try:
             model, done = self._model(venv)
@@ -77,7 +78,9 @@ class TrainingRun:
                 callbacks = CallbackList(steps)
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
-            write_learning_summary(self.folder, self.folder, until=int(model.num_timesteps))
+            steps = int(model.num_timesteps)
+            run_json["result"] = self._summarize(steps)
+            write_json_atomic(self.folder / "run.json", run_json)
             return self.export(model)
         finally:
             venv.close()
@@ -144,6 +147,19 @@ class TrainingRun:
             state["curriculum_reach"] = self.curriculum.reach
         write_json_atomic(self.state_path, state)
 
+    def _summarize(self, steps: int) -> dict[str, float]:
+        """Write the learning summary (if an update has been logged) and return the run's steps,
+        learning wall time over all its sessions, and environment steps per second."""
+        result: dict[str, float] = {"steps": steps}
+        try:
+            table = learning_table(self.folder, until=steps)
+        except FileNotFoundError:  # stopped before its first update: nothing learned to draw
+            return result
+        write_learning_table(table, self.folder.name, self.folder)
+        seconds = training_seconds(table)
+        return result | {"training_seconds": round(seconds, 1),
+                         "env_steps_per_second": round(steps / max(seconds, 1e-9), 1)}  # fmt: skip
+
     def export(self, model) -> Path:
         """The finished policy as safetensors + JSON in the policies folder."""
         from .policy_file import save_policy
@@ -155,6 +171,7 @@ class TrainingRun:
             "robot": cfg.robot,
             "ablation": cfg.ablation,
             "actuation": cfg.actuation,
+            "haptics": cfg.haptics,
             "algorithm": cfg.algo,
             "seed": cfg.seed,
             "steps": int(model.num_timesteps),
@@ -183,6 +200,8 @@ class _EnvFactory:
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
                              horizon=cfg.horizon, scene=actuated_scene(cfg.actuation))  # fmt: skip
+        if cfg.haptics != "newtons":
+            env = ScaledHaptics(env, cfg.ablation, cfg.haptics)
         keywords = ("arm_progress", "max_deformation", "sim_failure")
         if cfg.curriculum is not None:
             env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
@@ -38,6 +39,13 @@ def learning_table(run_folder: str | Path, until: int | None = None) -> pd.DataF
     return table if until is None else table[table[STEPS] <= until]
 
 
+def training_seconds(table: pd.DataFrame) -> float:
+    """Wall time spent learning, summed over sessions (SB3's time_elapsed restarts at a resume)."""
+    elapsed = table["time/time_elapsed"].to_numpy(dtype=float)
+    restarts = np.flatnonzero(np.diff(elapsed) < 0)
+    return float(elapsed[restarts].sum() + elapsed[-1])
+
+
 def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     """Return, final arm progress and failure rate against environment steps, side by side."""
     figure = Figure(figsize=(13, 3.8), layout="constrained")
@@ -56,9 +64,13 @@ def write_learning_summary(
     """Write ``NAME-progress.csv`` and ``NAME-learning.png`` for the run into ``out``."""
     run_folder, out = Path(run_folder), Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    table = learning_table(run_folder, until)
-    csv_path = out / f"{run_folder.name}-progress.csv"
-    png_path = out / f"{run_folder.name}-learning.png"
+    return write_learning_table(learning_table(run_folder, until), run_folder.name, out)
+
+
+def write_learning_table(table: pd.DataFrame, name: str, out: Path) -> list[Path]:
+    """``table`` as ``NAME-progress.csv`` and its figure as ``NAME-learning.png`` in ``out``."""
+    csv_path = out / f"{name}-progress.csv"
+    png_path = out / f"{name}-learning.png"
     write_csv(csv_path, table)
-    write_png(png_path, learning_figure(table, f"training run {run_folder.name}"))
+    write_png(png_path, learning_figure(table, f"training run {name}"))
     return [csv_path, png_path]

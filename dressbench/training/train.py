@@ -27,6 +27,7 @@ from ..checks import (
     check_processes,
     check_seed,
 )
+from ..observation import check_haptic_scale
 from .curriculum import CurriculumConfig
 
 ALGORITHMS = ("trpo", "ppo")
@@ -55,6 +56,7 @@ class TrainConfig:
     gae_lambda: float = 0.95
     target_kl: float = 0.01
     actuation: str = "pd"  # the human's action: PD targets, or the paper's torques ("torque")
+    haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
     checkpoint_every: int = 20_000  # environment steps between checkpoints
     curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
     out: str = "runs"
@@ -66,6 +68,7 @@ class TrainConfig:
             raise ValueError(f"unknown algorithm {self.algo!r}: choose one of {ALGORITHMS}")
         if self.actuation not in ("pd", "torque"):
             raise ValueError(f"unknown actuation {self.actuation!r}: use 'pd' or 'torque'")
+        check_haptic_scale(self.haptics)
         check_int(self.timesteps, "timesteps", 1)
         check_processes(self.envs, "envs", zero="one per core")
         check_seed(self.seed)
@@ -97,13 +100,13 @@ class TrainConfig:
     @classmethod
     def preset(cls, recipe: str = "default", **changes) -> TrainConfig:
         """A named recipe with ``changes`` on top. "paper" is Clegg et al.'s published setting:
-        TRPO, torque = action x 10 N m, 50,000-sample batches, no curriculum."""
+        TRPO, torque = action x 10 N m, 50,000-sample batches, forces in newtons, no curriculum."""
         if recipe not in RECIPES:
             raise ValueError(f"unknown recipe {recipe!r}: choose one of {', '.join(RECIPES)}")
         base = {"recipe": recipe}
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
-                     "curriculum": None}  # fmt: skip
+                     "haptics": "newtons", "curriculum": None}  # fmt: skip
         return cls(**(base | changes))
 
     @property
