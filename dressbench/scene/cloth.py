@@ -31,7 +31,7 @@ MAX_CAPSULES = 32  # the broadphase keeps one bit per capsule in an int32
 class ClothConfig:
     """Solver settings; see docs/cloth.md for how they were chosen."""
 
-    iterations: int = 10  # constraint iterations per substep
+    iterations: int = 14  # constraint iterations per substep
     substeps: int = 1  # substeps per simulation step
     stretch_compliance: float = 0.0  # m/N, XPBD compliance of mesh edges (0: inextensible)
     bend_compliance: float = 0.5  # m/N, of the cross edges that resist folding (soft)
@@ -158,8 +158,7 @@ def _solve_distance(
     lam: wp.array(dtype=float),
     offset: int,
 ):
-    """One XPBD distance constraint, in place; ``alpha`` = 0 is a hard (PBD) constraint, which
-    needs no multiplier."""
+    """One soft XPBD distance constraint (compliance ``alpha`` > 0), in place."""
     k = wp.tid() + offset
     i = pairs[k][0]
     j = pairs[k][1]
@@ -170,36 +169,35 @@ def _solve_distance(
     w = wi + wj + alpha
     if length < 1.0e-9 or w == 0.0:
         return
-    dlam = -(length - rest[k]) / w
-    if alpha > 0.0:
-        dlam = dlam - alpha * lam[k] / w
-        lam[k] = lam[k] + dlam
+    dlam = (-(length - rest[k]) - alpha * lam[k]) / w
+    lam[k] = lam[k] + dlam
     corr = d / length * dlam
     x[i] = x[i] + corr * wi
     x[j] = x[j] - corr * wj
 
 
 @wp.kernel
-def _solve_max_distance(
+def _solve_hard_distance(
     x: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
     pairs: wp.array(dtype=wp.vec2i),
-    max_length: wp.array(dtype=float),
+    share_rest: wp.array(dtype=wp.vec3),
+    one_sided: int,
     offset: int,
 ):
-    """Pull two vertices no farther apart than ``max_length`` (a one-sided, hard constraint)."""
+    """One hard (PBD) distance constraint, in place: each end moves by its share of the
+    correction (its inverse mass over the pair's, precomputed with the rest length in
+    ``share_rest``). ``one_sided`` only pulls ends that are farther apart than the rest."""
     k = wp.tid() + offset
     i = pairs[k][0]
     j = pairs[k][1]
-    wi = inv_mass[i]
-    wj = inv_mass[j]
+    c = share_rest[k]
     d = x[i] - x[j]
     length = wp.length(d)
-    if length <= max_length[k] or wi + wj == 0.0:
+    if length < 1.0e-9 or (one_sided != 0 and length <= c[2]):
         return
-    corr = d / length * ((max_length[k] - length) / (wi + wj))
-    x[i] = x[i] + corr * wi
-    x[j] = x[j] - corr * wj
+    corr = d * ((c[2] - length) / length)
+    x[i] = x[i] + corr * c[0]
+    x[j] = x[j] - corr * c[1]
 
 
 @wp.func
@@ -509,9 +507,15 @@ def _write(array: wp.array, data: np.ndarray) -> None:
 
 
 class _DistanceSet:
-    """One family of XPBD distance constraints (stretch or bending), sorted by colour."""
+    """One family of distance constraints (stretch, shear, bending or spans), sorted by colour.
 
-    def __init__(self, pairs, rest, alpha_tilde: float, arr, device) -> None:
+    ``alpha_tilde`` > 0 makes them soft (XPBD, with multipliers); 0 makes them hard, solved
+    with each end's share of the correction precomputed (the pins never change). ``one_sided``
+    constraints only keep their ends from moving farther apart than the rest length."""
+
+    def __init__(
+        self, pairs, rest, alpha_tilde: float, inv_mass, arr, device, one_sided: bool = False
+    ) -> None:
         pairs = np.asarray(pairs, dtype=np.int32).reshape(-1, 2)
         colors = color_constraints(pairs)
         order = np.argsort(colors, kind="stable")
@@ -519,10 +523,18 @@ class _DistanceSet:
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         self.color_ranges = list(zip(starts.tolist(), counts.tolist(), strict=True))
         self.size = len(pairs)
-        self.pairs = arr(pairs[order], wp.vec2i)
-        self.rest = arr(np.asarray(rest)[order], float)
+        self.one_sided = one_sided
+        pairs, rest = pairs[order], np.asarray(rest, dtype=float)[order]
+        self.pairs = arr(pairs, wp.vec2i)
+        self.rest = arr(rest, float)
         self.alpha = float(alpha_tilde)
-        self.lam = wp.zeros(self.size, dtype=float, device=device)
+        if one_sided and self.alpha > 0.0:
+            raise ValueError("one-sided distance constraints are hard (alpha_tilde = 0)")
+        self.lam = wp.zeros(self.size if self.alpha > 0.0 else 0, dtype=float, device=device)
+        w = np.asarray(inv_mass, dtype=float)[pairs]
+        total = w.sum(axis=1, keepdims=True)
+        share = np.divide(w, total, out=np.zeros_like(w), where=total > 0.0)
+        self.share_rest = arr(np.column_stack([share, rest]), wp.vec3)
 
 
 class Cloth:
@@ -587,14 +599,14 @@ class Cloth:
         shear = np.zeros(len(edges), bool) if shear_edges is None else np.asarray(shear_edges)
         alpha = config.stretch_compliance / h**2
         self.constraint_sets = [
-            _DistanceSet(edges[~shear], edge_rest[~shear], alpha, arr, d),
-            _DistanceSet(edges[shear], edge_rest[shear], alpha, arr, d),
-            _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, arr, d),
+            _DistanceSet(edges[~shear], edge_rest[~shear], alpha, inv_mass, arr, d),
+            _DistanceSet(edges[shear], edge_rest[shear], alpha, inv_mass, arr, d),
+            _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, inv_mass, arr, d),
         ]
         if spans is None:
             spans, span_rest = np.zeros((0, 2), np.int32), np.zeros(0)
         span_length = np.asarray(span_rest) * (1.0 + config.span_slack)
-        self.spans = _DistanceSet(spans, span_length, 0.0, arr, d)
+        self.spans = _DistanceSet(spans, span_length, 0.0, inv_mass, arr, d, one_sided=True)
         self.anchor = arr(tether_anchor, int)
         self.tether_length = arr(tether_length * (1.0 + config.tether_slack), float)
         self.tris = arr(self.triangles, wp.vec3i)
@@ -746,7 +758,7 @@ class Cloth:
                 if it < cfg.bend_iterations:
                     self._solve(bend)
                 if it < cfg.span_iterations:
-                    self._solve(self.spans, _solve_max_distance)
+                    self._solve(self.spans)
                 if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one
                     wp.launch(
                         _tether_and_collide,
@@ -851,7 +863,7 @@ class Cloth:
             )
             # the body wrench is the substep average; the sensors accumulate over steps
 
-    def _solve(self, cs: _DistanceSet, kernel=None) -> None:
+    def _solve(self, cs: _DistanceSet) -> None:
         """Gauss-Seidel over the constraints, colour by colour.
 
         Constraints of one colour share no vertex, so a colour is race-free in parallel (one
@@ -865,12 +877,12 @@ class Cloth:
         for start, count in ranges:
             if not count:
                 continue
-            if kernel is None:
+            if cs.alpha > 0.0:
                 inputs = [self.x, self.inv_mass, cs.pairs, cs.rest, cs.alpha, cs.lam, start]
                 wp.launch(_solve_distance, count, inputs, device=self.device)
             else:
-                inputs = [self.x, self.inv_mass, cs.pairs, cs.rest, start]
-                wp.launch(kernel, count, inputs, device=self.device)
+                inputs = [self.x, cs.pairs, cs.share_rest, int(cs.one_sided), start]
+                wp.launch(_solve_hard_distance, count, inputs, device=self.device)
 
     # ----------------------------------------------------------------------------- outputs
     def positions(self) -> np.ndarray:
