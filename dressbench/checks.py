@@ -142,10 +142,10 @@ def check_device(device: str, name: str = "device") -> str:
 
     import warp as wp
 
-    from .scene import cloth  # noqa: F401 - sets Warp's kernel cache before it initialises
+    from .scene.cloth import init_warp
 
     lead = f"{name} " if name else ""
-    wp.init()
+    init_warp()
     have = [str(d) for d in wp.get_devices()]
     if device != "cpu" and re.fullmatch(r"cuda(:\d+)?", device or "") is None:
         raise ValueError(f"{lead}must be 'cpu', 'cuda' or 'cuda:N', got {device!r}")

@@ -80,7 +80,7 @@ def assert_contact_invariants(scene: Scene, grip: np.ndarray) -> bool:
     np.testing.assert_allclose(
         scene.haptic_forces.sum(axis=0), scene.contact_force, atol=1e-4, rtol=1e-4
     )
-    contacts = scene.cloth.contacts()
+    contacts = scene.cloth.contacts_now()
     np.testing.assert_allclose(
         contacts["force"].sum(axis=0), scene.cloth.body_wrenches()[0].sum(axis=0), atol=1e-4
     )

@@ -1,12 +1,16 @@
 """Position-based (XPBD) cloth in Warp kernels, with two-way capsule contact and friction.
 
-One ``step(dt)`` advances the cloth by one simulation step: integrate, drive the pinned
-vertices with the gripper, then iterate distance constraints (stretch + bending), tethers to the
-pinned vertices, and capsule collisions; finally velocity update with Coulomb friction and the
-contact wrenches that go back to the body. All of it is captured once as a Warp graph, so a step
-is a single replay. The distance constraints run Gauss-Seidel in colour order: constraints of one
-colour share no vertex, so each colour is race-free in parallel on CUDA, and on the CPU (where a
-kernel runs serially) the independence of neighbours keeps the pipeline full.
+One ``step`` advances the cloth by one simulation step: integrate, drive the pinned vertices
+with the gripper, then iterate distance constraints (stretch, shear, bending, spans), tethers to
+the pinned vertices and capsule collisions; finally the velocity update with Coulomb friction,
+and the contact wrenches that go back to the body. All of it is captured once as a Warp graph,
+so a step is a single replay. The distance constraints run Gauss-Seidel in colour order:
+constraints of one colour share no vertex, so each colour is race-free in parallel on CUDA, and
+on the CPU (where a kernel runs serially) the independence of neighbours keeps the pipeline full.
+
+The arrays are grouped as in Newton's XPBD solver: the model (what the cloth is, fixed), its
+state (positions, velocities), the control (the gripper and the body's capsules for the next
+step), the per-step contacts and the outputs read back by the scene. Kernels: ``cloth_kernels``.
 """
 
 from __future__ import annotations
@@ -18,11 +22,7 @@ from pathlib import Path
 import numpy as np
 import warp as wp
 
-_CACHE = os.environ.get(
-    "DRESSBENCH_WARP_CACHE", str(Path.home() / ".cache" / "dressbench" / "warp")
-)
-wp.config.kernel_cache_dir = _CACHE
-wp.config.quiet = True
+from . import cloth_kernels as k
 
 MAX_CAPSULES = 32  # the broadphase keeps one bit per capsule in an int32
 
@@ -51,445 +51,55 @@ class ClothConfig:
     launch_per_color: bool | None = None  # None: one launch per colour on CUDA, one in all on CPU
 
 
-@wp.func
-def closest_on_segment(p: wp.vec3, a: wp.vec3, b: wp.vec3) -> float:
-    ab = b - a
-    denom = wp.dot(ab, ab)
-    if denom < 1.0e-12:
-        return 0.0
-    return wp.clamp(wp.dot(p - a, ab) / denom, 0.0, 1.0)
+@dataclass(frozen=True)
+class ClothMesh:
+    """What the cloth is made of: the gown's mesh, its constraints and its held vertices."""
+
+    positions: np.ndarray  # (N, 3) m
+    masses: np.ndarray  # (N,) kg
+    triangles: np.ndarray  # (T, 3)
+    rest_areas: np.ndarray  # (T,) m^2
+    edges: np.ndarray  # (E, 2) mesh edges: the stretch and shear constraints
+    edge_rest: np.ndarray  # (E,) m
+    shear_edges: np.ndarray  # (E,) bool: the grid's diagonals
+    bend_pairs: np.ndarray  # (B, 2) vertices across an edge: the bending constraints
+    bend_rest: np.ndarray  # (B,) m
+    pinned: np.ndarray  # vertices the gripper holds
+    tether_anchor: np.ndarray  # (N,) each vertex's pinned anchor, -1 for none
+    tether_length: np.ndarray  # (N,) m, the rest geodesic to it
+    spans: np.ndarray  # (S, 2) pairs along straight pattern lines (long-range, one-sided)
+    span_rest: np.ndarray  # (S,) m
 
 
-@wp.kernel
-def _integrate(
-    x: wp.array(dtype=wp.vec3),
-    x_prev: wp.array(dtype=wp.vec3),
-    v: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
-    gravity: wp.vec3,
-    damping: float,
-    h: float,
-    contact_cap: wp.array(dtype=int),
-    contact_push: wp.array(dtype=wp.vec3),
-    tension: wp.array(dtype=wp.vec3),
-    normals: wp.array(dtype=wp.vec3),
-):
-    """Predict positions under gravity and drag; clear the step's per-vertex accumulators."""
-    i = wp.tid()
-    x_prev[i] = x[i]
-    contact_cap[i] = -1
-    contact_push[i] = wp.vec3(0.0)
-    tension[i] = wp.vec3(0.0)
-    normals[i] = wp.vec3(0.0)
-    if inv_mass[i] > 0.0:
-        vi = (v[i] + gravity * h) * wp.max(0.0, 1.0 - damping * h)
-        v[i] = vi
-        x[i] = x[i] + vi * h
+@dataclass(frozen=True)
+class ContactBodies:
+    """The body the cloth touches: capsules on bodies, haptic sensors, the end effector."""
+
+    n_bodies: int
+    capsule_body: np.ndarray  # (C,) body of each capsule
+    capsule_radius: np.ndarray  # (C,) m
+    n_sensors: int
+    effector_body: int  # the body whose contacts count as the end effector's
 
 
-@wp.kernel
-def _drive_pins(
-    x: wp.array(dtype=wp.vec3),
-    pin_index: wp.array(dtype=int),
-    pin_local: wp.array(dtype=wp.vec3),
-    gripper_prev: wp.array(dtype=wp.transform),
-    gripper: wp.array(dtype=wp.transform),
-    alpha: wp.array(dtype=float),
-    substep: int,
-):
-    k = wp.tid()
-    t = alpha[substep]
-    pa = wp.transform_point(gripper_prev[0], pin_local[k])
-    pb = wp.transform_point(gripper[0], pin_local[k])
-    x[pin_index[k]] = pa + (pb - pa) * t
-
-
-@wp.kernel
-def _broadphase(
-    x: wp.array(dtype=wp.vec3),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    cap_lo: wp.array(dtype=wp.vec3),
-    cap_hi: wp.array(dtype=wp.vec3),
-    n_caps: int,
-    reach: float,
-    mask: wp.array(dtype=int),
-):
-    """One bit per capsule within ``reach`` of the vertex (its box, then the exact distance)."""
-    i = wp.tid()
-    p = x[i]
-    m = int(0)
-    for c in range(n_caps):
-        lo = cap_lo[c]
-        hi = cap_hi[c]
-        if (
-            p[0] > lo[0]
-            and p[1] > lo[1]
-            and p[2] > lo[2]
-            and p[0] < hi[0]
-            and p[1] < hi[1]
-            and p[2] < hi[2]
-        ):
-            a = cap_a[c]
-            b = cap_b[c]
-            if wp.length(p - (a + (b - a) * closest_on_segment(p, a, b))) < cap_r[c] + reach:
-                m = m | (1 << c)
-    mask[i] = m
-
-
-@wp.kernel
-def _zero_float(a: wp.array(dtype=float)):
-    a[wp.tid()] = 0.0
-
-
-@wp.kernel
-def _zero_vec3(a: wp.array(dtype=wp.vec3)):
-    a[wp.tid()] = wp.vec3(0.0)
-
-
-@wp.kernel
-def _solve_distance(
-    x: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
-    pairs: wp.array(dtype=wp.vec2i),
-    rest: wp.array(dtype=float),
-    alpha: float,
-    lam: wp.array(dtype=float),
-    offset: int,
-):
-    """One soft XPBD distance constraint (compliance ``alpha`` > 0), in place."""
-    k = wp.tid() + offset
-    i = pairs[k][0]
-    j = pairs[k][1]
-    wi = inv_mass[i]
-    wj = inv_mass[j]
-    d = x[i] - x[j]
-    length = wp.length(d)
-    w = wi + wj + alpha
-    if length < 1.0e-9 or w == 0.0:
-        return
-    dlam = (-(length - rest[k]) - alpha * lam[k]) / w
-    lam[k] = lam[k] + dlam
-    corr = d / length * dlam
-    x[i] = x[i] + corr * wi
-    x[j] = x[j] - corr * wj
-
-
-@wp.kernel
-def _solve_hard_distance(
-    x: wp.array(dtype=wp.vec3),
-    pairs: wp.array(dtype=wp.vec2i),
-    share_rest: wp.array(dtype=wp.vec3),
-    one_sided: int,
-    offset: int,
-):
-    """One hard (PBD) distance constraint, in place: each end moves by its share of the
-    correction (its inverse mass over the pair's, precomputed with the rest length in
-    ``share_rest``). ``one_sided`` only pulls ends that are farther apart than the rest."""
-    k = wp.tid() + offset
-    i = pairs[k][0]
-    j = pairs[k][1]
-    c = share_rest[k]
-    d = x[i] - x[j]
-    length = wp.length(d)
-    if length < 1.0e-9 or (one_sided != 0 and length <= c[2]):
-        return
-    corr = d * ((c[2] - length) / length)
-    x[i] = x[i] + corr * c[0]
-    x[j] = x[j] - corr * c[1]
-
-
-@wp.func
-def push_out(
-    p: wp.vec3,
-    p_prev: wp.vec3,
-    a: wp.vec3,
-    b: wp.vec3,
-    a_prev: wp.vec3,
-    b_prev: wp.vec3,
-    radius: float,
-    thickness: float,
-) -> wp.vec3:
-    """The displacement that takes point ``p`` out of a capsule to ``radius + thickness``, on
-    the side it was on at the start of the step (zero if it is outside).
-
-    A thin limb can move more than its radius in a step relative to the cloth; pushed out along
-    the nearest normal, a point that crossed the axis would pass through the limb."""
-    q = a + (b - a) * closest_on_segment(p, a, b)
-    d = p - q
-    dist = wp.length(d)
-    r = radius + thickness
-    if dist >= r:
-        return wp.vec3(0.0)
-    n = wp.vec3(0.0, 0.0, 1.0)
-    if dist > 1.0e-9:
-        n = d / dist
-    d_prev = p_prev - (a_prev + (b_prev - a_prev) * closest_on_segment(p_prev, a_prev, b_prev))
-    if wp.length(d_prev) > radius and wp.dot(d_prev, n) < 0.0:
-        n = wp.normalize(d_prev)  # it came from the other side: back out there
-        dist = wp.dot(d, n)
-    return n * (r - dist)
-
-
-@wp.kernel
-def _tether_and_collide(
-    x: wp.array(dtype=wp.vec3),
-    x_prev: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
-    anchor: wp.array(dtype=int),
-    max_length: wp.array(dtype=float),
-    mask: wp.array(dtype=int),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    n_caps: int,
-    thickness: float,
-    contact_cap: wp.array(dtype=int),
-    contact_push: wp.array(dtype=wp.vec3),
-):
-    """Keep each free vertex within its tether's length of its pinned anchor, then push it out
-    of the capsules (see ``push_out``)."""
-    i = wp.tid()
-    if inv_mass[i] == 0.0:
-        return
-    p = x[i]
-    a = anchor[i]
-    if a >= 0:
-        d = p - x[a]
-        length = wp.length(d)
-        if length > max_length[i]:
-            p = x[a] + d * (max_length[i] / length)
-    m = mask[i]
-    c = int(0)
-    while m != 0:  # only the capsules the broadphase found near
-        if m & 1:
-            push = push_out(
-                p, x_prev[i], cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
-            )
-            if wp.length_sq(push) > 0.0:
-                p = p + push
-                contact_push[i] = contact_push[i] + push
-                contact_cap[i] = c
-        m = m >> 1
-        c += 1
-    x[i] = p
-
-
-@wp.kernel
-def _collide_triangles(
-    x: wp.array(dtype=wp.vec3),
-    x_prev: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
-    tris: wp.array(dtype=wp.vec3i),
-    mask: wp.array(dtype=int),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    n_caps: int,
-    thickness: float,
-    contact_cap: wp.array(dtype=int),
-    contact_push: wp.array(dtype=wp.vec3),
-):
-    """Push each triangle's centroid out of the capsules, moving its free vertices.
-
-    Vertex contacts alone let a limb slip between the vertices of a triangle and part the
-    fabric around itself (the triangle then straddles the limb, stretched for free)."""
-    k = wp.tid()
-    i0 = tris[k][0]
-    i1 = tris[k][1]
-    i2 = tris[k][2]
-    m = mask[i0] | mask[i1] | mask[i2]
-    w = inv_mass[i0] + inv_mass[i1] + inv_mass[i2]
-    if m == 0 or w == 0.0:
-        return
-    p = (x[i0] + x[i1] + x[i2]) / 3.0
-    p_prev = (x_prev[i0] + x_prev[i1] + x_prev[i2]) / 3.0
-    c = int(0)
-    while m != 0:
-        if m & 1:
-            push = push_out(
-                p, p_prev, cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
-            )
-            if wp.length_sq(push) > 0.0:
-                # the least-mass-weighted move of the vertices that moves the centroid by push
-                s = 3.0 / w
-                p = p + push
-                for v in range(3):
-                    vi = tris[k][v]
-                    dv = push * (inv_mass[vi] * s)
-                    wp.atomic_add(x, vi, dv)  # triangles share vertices: atomic on a GPU
-                    if inv_mass[vi] > 0.0:
-                        wp.atomic_add(contact_push, vi, dv)
-                        contact_cap[vi] = c
-        m = m >> 1
-        c += 1
-
-
-@wp.kernel
-def _finish(
-    x: wp.array(dtype=wp.vec3),
-    x_prev: wp.array(dtype=wp.vec3),
-    v: wp.array(dtype=wp.vec3),
-    inv_mass: wp.array(dtype=float),
-    mass: wp.array(dtype=float),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    h: float,
-    mu: float,
-    contact_cap: wp.array(dtype=int),
-    contact_push: wp.array(dtype=wp.vec3),
-    contact_force: wp.array(dtype=wp.vec3),
-    contact_point: wp.array(dtype=wp.vec3),
-    tension: wp.array(dtype=wp.vec3),
-    gripper: wp.array(dtype=wp.transform),
-    extremes: wp.array(dtype=float),
-):
-    """New velocities with friction; the force each contact puts on the body; the step's
-    largest speed and distance from the gripper (the divergence watch)."""
-    i = wp.tid()
-    vi = (x[i] - x_prev[i]) / h
-    f = wp.vec3(0.0)
-    c = contact_cap[i]
-    if c >= 0 and inv_mass[i] > 0.0:  # held vertices' contacts are the hoop's, in DART
-        t = closest_on_segment(x[i], cap_a[c], cap_b[c])
-        q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
-        vs = ((cap_a[c] - cap_a_prev[c]) * (1.0 - t) + (cap_b[c] - cap_b_prev[c]) * t) / h
-        d = x[i] - q
-        n = wp.normalize(d)
-        vrel = vi - vs
-        vn = wp.dot(vrel, n)
-        vt = vrel - n * vn
-        vt_len = wp.length(vt)
-        dvn = wp.length(contact_push[i]) / h
-        dv_friction = wp.vec3(0.0)
-        if vt_len > 1.0e-9:
-            dv_friction = -vt * wp.min(1.0, mu * dvn / vt_len)
-        vi = vi + dv_friction
-        # the cloth's momentum change from contact, returned to the body with opposite sign
-        f = -(contact_push[i] / h + dv_friction) * (mass[i] / h)
-        # and the fabric's tension that presses the vertex onto the body: the body holds it
-        # (with friction along the surface), so the reaction of the held cloth reaches the limb
-        pull = tension[i]
-        pull_n = wp.dot(pull, n)
-        if pull_n < 0.0:
-            along = pull - n * pull_n
-            along_len = wp.length(along)
-            f = f + n * pull_n
-            if along_len > 1.0e-9:
-                f = f + along * wp.min(1.0, -mu * pull_n / along_len)
-        contact_point[i] = q + n * cap_r[c]
-    v[i] = vi
-    contact_force[i] = f
-    wp.atomic_max(extremes, 0, wp.length(vi))
-    wp.atomic_max(extremes, 1, wp.length(x[i] - wp.transform_get_translation(gripper[0])))
-
-
-@wp.kernel
-def _edge_tension(
-    x: wp.array(dtype=wp.vec3),
-    pairs: wp.array(dtype=wp.vec2i),
-    rest: wp.array(dtype=float),
-    stiffness: float,
-    tension: wp.array(dtype=wp.vec3),
-):
-    """Each stretched edge pulls its two vertices toward each other with stiffness x stretch."""
-    k = wp.tid()
-    i = pairs[k][0]
-    j = pairs[k][1]
-    d = x[j] - x[i]
-    length = wp.length(d)
-    if length > rest[k]:
-        f = d * (stiffness * (length - rest[k]) / length)
-        wp.atomic_add(tension, i, f)
-        wp.atomic_sub(tension, j, f)
-
-
-@wp.kernel
-def _max_area_ratio(
-    x: wp.array(dtype=wp.vec3),
-    tris: wp.array(dtype=wp.vec3i),
-    rest_area: wp.array(dtype=float),
-    out: wp.array(dtype=float),
-):
-    k = wp.tid()
-    a = x[tris[k][0]]
-    area = 0.5 * wp.length(wp.cross(x[tris[k][1]] - a, x[tris[k][2]] - a))
-    wp.atomic_max(out, 0, area / rest_area[k])
-
-
-@wp.kernel
-def _vertex_normals(
-    x: wp.array(dtype=wp.vec3), tris: wp.array(dtype=wp.vec3i), normals: wp.array(dtype=wp.vec3)
-):
-    k = wp.tid()
-    a = tris[k][0]
-    b = tris[k][1]
-    c = tris[k][2]
-    n = wp.cross(x[b] - x[a], x[c] - x[a])
-    wp.atomic_add(normals, a, n)
-    wp.atomic_add(normals, b, n)
-    wp.atomic_add(normals, c, n)
-
-
-@wp.kernel
-def _aggregate(
-    x: wp.array(dtype=wp.vec3),
-    normals: wp.array(dtype=wp.vec3),
-    contact_cap: wp.array(dtype=int),
-    contact_force: wp.array(dtype=wp.vec3),
-    contact_point: wp.array(dtype=wp.vec3),
-    cap_body: wp.array(dtype=int),
-    body_origin: wp.array(dtype=wp.vec3),
-    sensors: wp.array(dtype=wp.vec3),
-    n_sensors: int,
-    effector_body: int,
-    weight: float,
-    body_force: wp.array(dtype=wp.vec3),
-    body_torque: wp.array(dtype=wp.vec3),
-    sensor_force: wp.array(dtype=wp.vec3),
-    sensor_side: wp.array(dtype=float),
-    effector_contact: wp.array(dtype=int),
-):
-    """Sum each contact into its body's wrench and its nearest haptic sensor."""
-    i = wp.tid()
-    c = contact_cap[i]
-    if c < 0:
-        return
-    b = cap_body[c]
-    f = contact_force[i] * weight
-    p = contact_point[i]
-    wp.atomic_add(body_force, b, f)
-    wp.atomic_add(body_torque, b, wp.cross(p - body_origin[b], f))
-    best = int(0)
-    best_d = float(1.0e30)
-    for s in range(n_sensors):
-        d = wp.length_sq(sensors[s] - p)
-        if d < best_d:
-            best_d = d
-            best = s
-    wp.atomic_add(sensor_force, best, f)
-    # force on the cloth is -f: along the outward normal means pushed from inside
-    wp.atomic_add(sensor_side, best, -wp.dot(f, wp.normalize(normals[i])))
-    if b == effector_body:
-        effector_contact[i] = 1
+def init_warp() -> None:
+    """Initialise Warp; if nothing chose a kernel cache before, use dressbench's own
+    (``DRESSBENCH_WARP_CACHE``, default ~/.cache/dressbench/warp) and keep Warp quiet."""
+    if wp.config.kernel_cache_dir is None:  # Warp fills it in when it initialises
+        default = str(Path.home() / ".cache" / "dressbench" / "warp")
+        wp.config.kernel_cache_dir = os.environ.get("DRESSBENCH_WARP_CACHE", default)
+        wp.config.quiet = True
+    wp.init()
 
 
 def color_constraints(pairs: np.ndarray) -> np.ndarray:
     """Greedy colouring: no two constraints of one colour share a vertex (construction only)."""
     used: dict[int, int] = {}
     colors = np.empty(len(pairs), dtype=np.int64)
-    for k, (i, j) in enumerate(pairs.tolist()):
+    for n, (i, j) in enumerate(pairs.tolist()):
         taken = used.get(i, 0) | used.get(j, 0)
         c = (~taken & (taken + 1)).bit_length() - 1  # lowest free colour
-        colors[k] = c
+        colors[n] = c
         used[i] = used.get(i, 0) | (1 << c)
         used[j] = used.get(j, 0) | (1 << c)
     return colors
@@ -506,15 +116,27 @@ def _write(array: wp.array, data: np.ndarray) -> None:
         array.assign(np.ascontiguousarray(data, dtype=np.float32))
 
 
+def _write(array: wp.array, data: np.ndarray) -> None:
+    """Copy host data into a Warp array: in place through a cached view on the CPU."""
+    if array.device.is_cpu:
+        view = getattr(array, "_host_view", None)
+        if view is None:
+            view = array._host_view = array.numpy()
+        view[...] = data
+    else:
+        array.assign(np.ascontiguousarray(data, dtype=np.float32))
+
+
 class _DistanceSet:
     """One family of distance constraints (stretch, shear, bending or spans), sorted by colour.
 
-    ``alpha_tilde`` > 0 makes them soft (XPBD, with multipliers); 0 makes them hard, solved
-    with each end's share of the correction precomputed (the pins never change). ``one_sided``
-    constraints only keep their ends from moving farther apart than the rest length."""
+    ``alpha_tilde`` (compliance / h^2) > 0 makes them soft (XPBD, with multipliers); 0 makes
+    them hard, solved with each end's share of the correction precomputed (the pins never
+    change). ``one_sided`` constraints only keep their ends from moving farther apart than the
+    rest length."""
 
     def __init__(
-        self, pairs, rest, alpha_tilde: float, inv_mass, arr, device, one_sided: bool = False
+        self, pairs, rest, alpha_tilde: float, inv_mass, device, one_sided: bool = False
     ) -> None:
         pairs = np.asarray(pairs, dtype=np.int32).reshape(-1, 2)
         colors = color_constraints(pairs)
@@ -525,136 +147,155 @@ class _DistanceSet:
         self.size = len(pairs)
         self.one_sided = one_sided
         pairs, rest = pairs[order], np.asarray(rest, dtype=float)[order]
-        self.pairs = arr(pairs, wp.vec2i)
-        self.rest = arr(rest, float)
-        self.alpha = float(alpha_tilde)
-        if one_sided and self.alpha > 0.0:
+        self.pairs = wp.array(pairs, dtype=wp.vec2i, device=device)
+        self.rest = wp.array(rest, dtype=float, device=device)
+        self.alpha_tilde = float(alpha_tilde)
+        if one_sided and self.alpha_tilde > 0.0:
             raise ValueError("one-sided distance constraints are hard (alpha_tilde = 0)")
-        self.lam = wp.zeros(self.size if self.alpha > 0.0 else 0, dtype=float, device=device)
+        self.lam = wp.zeros(self.size if self.soft else 0, dtype=float, device=device)
         w = np.asarray(inv_mass, dtype=float)[pairs]
         total = w.sum(axis=1, keepdims=True)
         share = np.divide(w, total, out=np.zeros_like(w), where=total > 0.0)
-        self.share_rest = arr(np.column_stack([share, rest]), wp.vec3)
+        self.share_rest = wp.array(np.column_stack([share, rest]), dtype=wp.vec3, device=device)
+
+    @property
+    def soft(self) -> bool:
+        return self.alpha_tilde > 0.0
+
+
+class _Model:
+    """What the cloth is, on the device: masses, constraints, pins, tethers, triangles, and the
+    capsules' radii and bodies. Fixed after construction."""
+
+    def __init__(self, mesh: ClothMesh, bodies: ContactBodies, config: ClothConfig, h, device):
+        def arr(a, dtype):
+            return wp.array(np.ascontiguousarray(a), dtype=dtype, device=device)
+
+        self.n = len(mesh.positions)
+        self.pinned = np.asarray(mesh.pinned, dtype=np.int32)
+        self.triangles = np.asarray(mesh.triangles, dtype=np.int32)
+        masses = np.asarray(mesh.masses, dtype=float)
+        inv_mass = np.where(masses > 0, 1.0 / np.maximum(masses, 1e-12), 0.0)
+        inv_mass[self.pinned] = 0.0
+        self.inv_mass = arr(inv_mass, float)
+        self.mass = arr(masses, float)
+        shear = np.asarray(mesh.shear_edges, dtype=bool)
+        edges, edge_rest = np.asarray(mesh.edges), np.asarray(mesh.edge_rest)
+        stiff = config.stretch_compliance / h**2
+        self.stretch = _DistanceSet(edges[~shear], edge_rest[~shear], stiff, inv_mass, device)
+        self.shear = _DistanceSet(edges[shear], edge_rest[shear], stiff, inv_mass, device)
+        soft = config.bend_compliance / h**2
+        self.bend = _DistanceSet(mesh.bend_pairs, mesh.bend_rest, soft, inv_mass, device)
+        span_length = np.asarray(mesh.span_rest) * (1.0 + config.span_slack)
+        self.spans = _DistanceSet(mesh.spans, span_length, 0.0, inv_mass, device, one_sided=True)
+        self.tether_anchor = arr(mesh.tether_anchor, int)
+        self.tether_length = arr(
+            np.asarray(mesh.tether_length) * (1.0 + config.tether_slack), float
+        )
+        self.tris = arr(self.triangles, wp.vec3i)
+        self.rest_area = arr(mesh.rest_areas, float)
+        self.pin_index = arr(self.pinned, int)
+        self.pin_local = arr(np.asarray(mesh.positions)[self.pinned], wp.vec3)
+        self.substep_fraction = arr(np.arange(1, config.substeps + 1) / config.substeps, float)
+        self.n_caps = len(bodies.capsule_radius)
+        self.cap_r = arr(bodies.capsule_radius, float)
+        self.cap_body = arr(bodies.capsule_body, int)
+
+
+class _State:
+    """Where the cloth is: positions, their start-of-step copy, velocities."""
+
+    def __init__(self, positions: np.ndarray, device) -> None:
+        self.x = wp.array(positions, dtype=wp.vec3, device=device)
+        self.x_prev = wp.array(positions, dtype=wp.vec3, device=device)
+        self.v = wp.zeros(len(positions), dtype=wp.vec3, device=device)
+
+
+class _Control:
+    """What moves the cloth in the next step: the gripper's and the capsules' poses at its
+    start and end (with the capsules' boxes for the broadphase), the body and sensor frames."""
+
+    def __init__(self, n_caps: int, bodies: ContactBodies, device) -> None:
+        identity = np.array([[0, 0, 0, 0, 0, 0, 1]], dtype=np.float32)
+        self.gripper = wp.array(identity, dtype=wp.transform, device=device)
+        self.gripper_prev = wp.array(identity, dtype=wp.transform, device=device)
+        vec3s = {"dtype": wp.vec3, "device": device}
+        self.cap_a, self.cap_b = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
+        self.cap_a_prev, self.cap_b_prev = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
+        self.cap_lo, self.cap_hi = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
+        self.body_origin = wp.zeros(bodies.n_bodies, **vec3s)
+        self.sensors = wp.zeros(bodies.n_sensors, **vec3s)
+
+
+class _Contacts:
+    """Per-vertex scratch of one step: capsules near each vertex, the capsule it touches and
+    how far it was pushed, the pull of its stretched edges, its normal, and the force and
+    point of its contact on the body."""
+
+    def __init__(self, n: int, device) -> None:
+        vec3s = {"dtype": wp.vec3, "device": device}
+        self.mask = wp.zeros(n, dtype=int, device=device)
+        self.cap = wp.full(n, -1, dtype=int, device=device)
+        self.push = wp.zeros(n, **vec3s)
+        self.tension = wp.zeros(n, **vec3s)
+        self.normals = wp.zeros(n, **vec3s)
+        self.force = wp.zeros(n, **vec3s)
+        self.point = wp.zeros(n, **vec3s)
+
+
+class _Outputs:
+    """What the scene reads back: each body's wrench from the last step, and (accumulated since
+    ``clear_haptics``) the sensor forces and sides, the end effector's contacts, and the largest
+    speed and distance from the gripper."""
+
+    def __init__(self, n: int, bodies: ContactBodies, device) -> None:
+        vec3s = {"dtype": wp.vec3, "device": device}
+        self.body_force = wp.zeros(bodies.n_bodies, **vec3s)
+        self.body_torque = wp.zeros(bodies.n_bodies, **vec3s)
+        self.sensor_force = wp.zeros(bodies.n_sensors, **vec3s)
+        self.sensor_side = wp.zeros(bodies.n_sensors, dtype=float, device=device)
+        self.effector_contact = wp.zeros(n, dtype=int, device=device)
+        self.extremes = wp.zeros(2, dtype=float, device=device)  # max speed, max distance
+        self.ratio = wp.zeros(1, dtype=float, device=device)  # the max area ratio, on demand
 
 
 class Cloth:
-    """Cloth state on a Warp device and its captured step graph."""
+    """The cloth on a Warp device and its captured step graph."""
 
     def __init__(
         self,
-        positions: np.ndarray,
-        masses: np.ndarray,
-        triangles: np.ndarray,
-        rest_areas: np.ndarray,
-        edges: np.ndarray,
-        edge_rest: np.ndarray,
-        bend_pairs: np.ndarray,
-        bend_rest: np.ndarray,
-        pinned: np.ndarray,
-        tether_anchor: np.ndarray,
-        tether_length: np.ndarray,
-        n_bodies: int,
-        n_sensors: int,
-        effector_body: int,
-        capsule_body: np.ndarray,
-        capsule_radius: np.ndarray,
+        mesh: ClothMesh,
+        bodies: ContactBodies,
         config: ClothConfig = ClothConfig(),
         dt: float = 0.01,
         device: str = "cpu",
-        shear_edges: np.ndarray | None = None,
-        spans: np.ndarray | None = None,
-        span_rest: np.ndarray | None = None,
     ) -> None:
-        """``shear_edges`` marks the edges (the grid's diagonals) that resist shear, not
-        stretch: a woven fabric shears easily, so they are solved in fewer iterations.
-        ``spans`` are vertex pairs along straight lines of the flat pattern, kept no farther
-        apart than ``span_rest`` (1 + slack): they carry a load across many edges in one
-        projection, where the edges alone would need many iterations."""
-        if len(capsule_radius) > MAX_CAPSULES:
-            raise ValueError(f"at most {MAX_CAPSULES} capsules, got {len(capsule_radius)}")
-        wp.init()
+        if len(bodies.capsule_radius) > MAX_CAPSULES:
+            raise ValueError(f"at most {MAX_CAPSULES} capsules, got {len(bodies.capsule_radius)}")
+        init_warp()
         self.config = config
         self.device = wp.get_device(device)
         self.dt = dt
-        self.n = len(positions)
-        self.n_caps = len(capsule_radius)
-        self.n_bodies = n_bodies
-        self.n_sensors = n_sensors
-        self.effector_body = effector_body
-        self.pinned = np.asarray(pinned, dtype=np.int32)
-        self.triangles = np.asarray(triangles, dtype=np.int32)
-        d = self.device
-
-        def arr(a, dtype):
-            return wp.array(np.ascontiguousarray(a), dtype=dtype, device=d)
-
-        inv_mass = np.where(masses > 0, 1.0 / np.maximum(masses, 1e-12), 0.0)
-        inv_mass[self.pinned] = 0.0
-        h = dt / config.substeps
-        self.x = arr(positions, wp.vec3)
-        self.x_prev = arr(positions, wp.vec3)
-        self.v = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.inv_mass = arr(inv_mass, float)
-        self.mass = arr(masses, float)
-        shear = np.zeros(len(edges), bool) if shear_edges is None else np.asarray(shear_edges)
-        alpha = config.stretch_compliance / h**2
-        self.constraint_sets = [
-            _DistanceSet(edges[~shear], edge_rest[~shear], alpha, inv_mass, arr, d),
-            _DistanceSet(edges[shear], edge_rest[shear], alpha, inv_mass, arr, d),
-            _DistanceSet(bend_pairs, bend_rest, config.bend_compliance / h**2, inv_mass, arr, d),
-        ]
-        if spans is None:
-            spans, span_rest = np.zeros((0, 2), np.int32), np.zeros(0)
-        span_length = np.asarray(span_rest) * (1.0 + config.span_slack)
-        self.spans = _DistanceSet(spans, span_length, 0.0, inv_mass, arr, d, one_sided=True)
-        self.anchor = arr(tether_anchor, int)
-        self.tether_length = arr(tether_length * (1.0 + config.tether_slack), float)
-        self.tris = arr(self.triangles, wp.vec3i)
-        self.pin_index = arr(self.pinned, int)
-        self.pin_local = arr(positions[self.pinned], wp.vec3)
-        identity = np.array([[0, 0, 0, 0, 0, 0, 1]], dtype=np.float32)
-        self.gripper = arr(identity, wp.transform)
-        self.gripper_prev = arr(identity, wp.transform)
-        self.alpha_sub = arr(np.arange(1, config.substeps + 1) / config.substeps, float)
-        self.cap_a = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_b = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_a_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_b_prev = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_r = arr(capsule_radius, float)
-        self.capsule_radius = np.asarray(capsule_radius, dtype=float)
+        self.bodies = bodies
+        self.capsule_radius = np.asarray(bodies.capsule_radius, dtype=float)
         self._reach = config.thickness + config.broadphase_margin  # of the broadphase
-        self.cap_lo = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_hi = wp.zeros(self.n_caps, dtype=wp.vec3, device=d)
-        self.cap_body = arr(capsule_body, int)
-        self.mask = wp.zeros(self.n, dtype=int, device=d)
-        self.contact_cap = wp.full(self.n, -1, dtype=int, device=d)
-        self.contact_push = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.contact_force = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.contact_point = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.normals = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.tension = wp.zeros(self.n, dtype=wp.vec3, device=d)
-        self.body_origin = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
-        self.body_force = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
-        self.body_torque = wp.zeros(n_bodies, dtype=wp.vec3, device=d)
-        self.sensors = wp.zeros(n_sensors, dtype=wp.vec3, device=d)
-        self.sensor_force = wp.zeros(n_sensors, dtype=wp.vec3, device=d)
-        self.sensor_side = wp.zeros(n_sensors, dtype=float, device=d)
-        self.effector_contact = wp.zeros(self.n, dtype=int, device=d)
-        self.extremes = wp.zeros(2, dtype=float, device=d)  # max speed, max distance to gripper
-        self.rest_area = arr(rest_areas, float)
-        self._ratio = wp.zeros(1, dtype=float, device=d)
+        self.model = _Model(mesh, bodies, config, dt / config.substeps, self.device)
+        self.state = _State(np.asarray(mesh.positions), self.device)
+        self.control = _Control(self.model.n_caps, bodies, self.device)
+        self.contacts = _Contacts(self.model.n, self.device)
+        self.outputs = _Outputs(self.model.n, bodies, self.device)
         self._graph = None
 
     # ----------------------------------------------------------------------------- inputs
     def set_state(self, positions: np.ndarray, velocities: np.ndarray | None = None) -> None:
         """Overwrite vertex positions (and velocities, default zero)."""
-        _write(self.x, positions)
-        _write(self.v, np.zeros_like(positions) if velocities is None else velocities)
+        _write(self.state.x, positions)
+        _write(self.state.v, np.zeros_like(positions) if velocities is None else velocities)
 
     def set_gripper(self, previous: np.ndarray, current: np.ndarray) -> None:
         """Gripper poses (x, y, z, qx, qy, qz, qw) at the start and end of the next step."""
-        _write(self.gripper_prev, np.asarray(previous)[None])
-        _write(self.gripper, np.asarray(current)[None])
+        _write(self.control.gripper_prev, np.asarray(previous)[None])
+        _write(self.control.gripper, np.asarray(current)[None])
 
     def set_body(
         self,
@@ -664,206 +305,97 @@ class Cloth:
         sensors: np.ndarray,
     ) -> None:
         """Capsule endpoints (C, 2, 3) at the start and end of the next step, and frames."""
-        _write(self.cap_a_prev, capsules_prev[:, 0])
-        _write(self.cap_b_prev, capsules_prev[:, 1])
-        _write(self.cap_a, capsules[:, 0])
-        _write(self.cap_b, capsules[:, 1])
+        control = self.control
+        _write(control.cap_a_prev, capsules_prev[:, 0])
+        _write(control.cap_b_prev, capsules_prev[:, 1])
+        _write(control.cap_a, capsules[:, 0])
+        _write(control.cap_b, capsules[:, 1])
         margin = self.capsule_radius[:, None] + self._reach
-        _write(self.cap_lo, capsules.min(axis=1) - margin)
-        _write(self.cap_hi, capsules.max(axis=1) + margin)
-        _write(self.body_origin, body_origins)
-        _write(self.sensors, sensors)
+        _write(control.cap_lo, capsules.min(axis=1) - margin)
+        _write(control.cap_hi, capsules.max(axis=1) + margin)
+        _write(control.body_origin, body_origins)
+        _write(control.sensors, sensors)
 
     def clear_haptics(self) -> None:
         """Start a new accumulation of sensor forces and end-effector contacts."""
-        self.sensor_force.zero_()
-        self.sensor_side.zero_()
-        self.effector_contact.zero_()
-        self.extremes.zero_()
+        out = self.outputs
+        out.sensor_force.zero_()
+        out.sensor_side.zero_()
+        out.effector_contact.zero_()
+        out.extremes.zero_()
 
     # ----------------------------------------------------------------------------- stepping
     def step(self) -> None:
         """Advance by dt (captured as a graph on first use, replayed after)."""
         if self._graph is None:
-            wp.load_module(__name__, device=self.device)  # compile outside the capture
+            wp.load_module(k, device=self.device)  # compile outside the capture
             with wp.ScopedCapture(device=self.device) as capture:
                 self._launch_step()
             self._graph = capture.graph
         wp.capture_launch(self._graph)
 
-    def _launch_step(self) -> None:
-        cfg = self.config
-        d = self.device
-        n = self.n
-        h = self.dt / cfg.substeps
-        wp.launch(_zero_vec3, self.n_bodies, [self.body_force], device=d)
-        wp.launch(_zero_vec3, self.n_bodies, [self.body_torque], device=d)
-        for s in range(cfg.substeps):
-            wp.launch(
-                _integrate,
-                n,
-                [
-                    self.x,
-                    self.x_prev,
-                    self.v,
-                    self.inv_mass,
-                    wp.vec3(*cfg.gravity),
-                    cfg.damping,
-                    h,
-                    self.contact_cap,
-                    self.contact_push,
-                    self.tension,
-                    self.normals,
-                ],
-                device=d,
-            )
-            wp.launch(
-                _drive_pins,
-                len(self.pinned),
-                [
-                    self.x,
-                    self.pin_index,
-                    self.pin_local,
-                    self.gripper_prev,
-                    self.gripper,
-                    self.alpha_sub,
-                    s,
-                ],
-                device=d,
-            )
-            wp.launch(
-                _broadphase,
-                n,
-                [
-                    self.x,
-                    self.cap_a,
-                    self.cap_b,
-                    self.cap_r,
-                    self.cap_lo,
-                    self.cap_hi,
-                    self.n_caps,
-                    self._reach,
-                    self.mask,
-                ],
-                device=d,
-            )
-            for cs in self.constraint_sets:
-                if cs.alpha > 0.0:  # hard constraints carry no multiplier
-                    wp.launch(_zero_float, cs.size, [cs.lam], device=d)
-            stretch, shear, bend = self.constraint_sets
-            for it in range(cfg.iterations):
-                self._solve(stretch)
-                if it < cfg.shear_iterations:
-                    self._solve(shear)
-                if it < cfg.bend_iterations:
-                    self._solve(bend)
-                if it < cfg.span_iterations:
-                    self._solve(self.spans)
-                if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one
-                    wp.launch(
-                        _tether_and_collide,
-                        n,
-                        [
-                            self.x,
-                            self.x_prev,
-                            self.inv_mass,
-                            self.anchor,
-                            self.tether_length,
-                            self.mask,
-                            self.cap_a,
-                            self.cap_b,
-                            self.cap_a_prev,
-                            self.cap_b_prev,
-                            self.cap_r,
-                            self.n_caps,
-                            cfg.thickness,
-                            self.contact_cap,
-                            self.contact_push,
-                        ],
-                        device=d,
-                    )
-                    wp.launch(
-                        _collide_triangles,
-                        len(self.triangles),
-                        [
-                            self.x,
-                            self.x_prev,
-                            self.inv_mass,
-                            self.tris,
-                            self.mask,
-                            self.cap_a,
-                            self.cap_b,
-                            self.cap_a_prev,
-                            self.cap_b_prev,
-                            self.cap_r,
-                            self.n_caps,
-                            cfg.thickness,
-                            self.contact_cap,
-                            self.contact_push,
-                        ],
-                        device=d,
-                    )
-            wp.launch(
-                _edge_tension,
-                stretch.size,
-                [self.x, stretch.pairs, stretch.rest, cfg.tension_stiffness, self.tension],
-                device=d,
-            )
-            wp.launch(
-                _finish,
-                n,
-                [
-                    self.x,
-                    self.x_prev,
-                    self.v,
-                    self.inv_mass,
-                    self.mass,
-                    self.cap_a,
-                    self.cap_b,
-                    self.cap_a_prev,
-                    self.cap_b_prev,
-                    self.cap_r,
-                    h,
-                    cfg.friction,
-                    self.contact_cap,
-                    self.contact_push,
-                    self.contact_force,
-                    self.contact_point,
-                    self.tension,
-                    self.gripper,
-                    self.extremes,
-                ],
-                device=d,
-            )
-            wp.launch(
-                _vertex_normals, len(self.triangles), [self.x, self.tris, self.normals], device=d
-            )
-            wp.launch(
-                _aggregate,
-                n,
-                [
-                    self.x,
-                    self.normals,
-                    self.contact_cap,
-                    self.contact_force,
-                    self.contact_point,
-                    self.cap_body,
-                    self.body_origin,
-                    self.sensors,
-                    self.n_sensors,
-                    self.effector_body,
-                    1.0 / cfg.substeps,
-                    self.body_force,
-                    self.body_torque,
-                    self.sensor_force,
-                    self.sensor_side,
-                    self.effector_contact,
-                ],
-                device=d,
-            )
-            # the body wrench is the substep average; the sensors accumulate over steps
+    def _launch(self, kernel, dim: int, inputs: list, outputs: list) -> None:
+        wp.launch(kernel, dim, inputs=inputs, outputs=outputs, device=self.device)
 
-    def _solve(self, cs: _DistanceSet) -> None:
+    def _launch_step(self) -> None:
+        cfg, m, s, c, ct, out = (self.config, self.model, self.state, self.control,
+                                 self.contacts, self.outputs)  # fmt: skip
+        h = self.dt / cfg.substeps
+        self._launch(k.zero_vec3, self.bodies.n_bodies, [], [out.body_force])
+        self._launch(k.zero_vec3, self.bodies.n_bodies, [], [out.body_torque])
+        for substep in range(cfg.substeps):
+            self._launch(k.integrate, m.n, [m.inv_mass, wp.vec3(*cfg.gravity), cfg.damping, h],
+                         [s.x, s.x_prev, s.v, ct.cap, ct.push, ct.tension, ct.normals])  # fmt: skip
+            self._launch(k.drive_pins, len(m.pinned),
+                         [m.pin_index, m.pin_local, c.gripper_prev, c.gripper,
+                          m.substep_fraction, substep], [s.x])  # fmt: skip
+            self._launch(k.broadphase, m.n, [s.x, c.cap_a, c.cap_b, m.cap_r, c.cap_lo, c.cap_hi,
+                                             m.n_caps, self._reach], [ct.mask])  # fmt: skip
+            for constraints in (m.stretch, m.shear, m.bend):
+                if constraints.soft:
+                    self._launch(k.zero_float, constraints.size, [], [constraints.lam])
+            for it in range(cfg.iterations):
+                self._solve(m.stretch)
+                if it < cfg.shear_iterations:
+                    self._solve(m.shear)
+                if it < cfg.bend_iterations:
+                    self._solve(m.bend)
+                if it < cfg.span_iterations:
+                    self._solve(m.spans)
+                if (cfg.iterations - 1 - it) % cfg.contact_every == 0:  # always the last one
+                    self._collide()
+            self._launch(k.edge_tension, m.stretch.size,
+                         [s.x, m.stretch.pairs, m.stretch.rest, cfg.tension_stiffness],
+                         [ct.tension])  # fmt: skip
+            self._launch(k.finish, m.n,
+                         [s.x, s.x_prev, m.inv_mass, m.mass, c.cap_a, c.cap_b, c.cap_a_prev,
+                          c.cap_b_prev, m.cap_r, h, cfg.friction, ct.cap, ct.push, ct.tension,
+                          c.gripper],
+                         [s.v, ct.force, ct.point, out.extremes])  # fmt: skip
+            self._launch(k.vertex_normals, len(m.triangles), [s.x, m.tris], [ct.normals])
+            weight = 1.0 / cfg.substeps  # the body wrench is the substep average
+            self._launch(k.sum_body_wrenches, m.n,
+                         [ct.cap, ct.force, ct.point, m.cap_body, c.body_origin,
+                          self.bodies.effector_body, weight],
+                         [out.body_force, out.body_torque, out.effector_contact])  # fmt: skip
+            self._launch(k.bin_to_sensors, m.n,  # the sensors accumulate over steps
+                         [ct.normals, ct.cap, ct.force, ct.point, c.sensors,
+                          self.bodies.n_sensors, weight],
+                         [out.sensor_force, out.sensor_side])  # fmt: skip
+
+    def _collide(self) -> None:
+        """Tethers and capsule collisions of the vertices, then of the triangles' centroids."""
+        m, s, c, ct = self.model, self.state, self.control, self.contacts
+        capsules = [c.cap_a, c.cap_b, c.cap_a_prev, c.cap_b_prev, m.cap_r, m.n_caps,
+                    self.config.thickness]  # fmt: skip
+        self._launch(k.tether_and_collide, m.n,
+                     [s.x_prev, m.inv_mass, m.tether_anchor, m.tether_length, ct.mask, *capsules],
+                     [s.x, ct.cap, ct.push])  # fmt: skip
+        self._launch(k.collide_triangles, len(m.triangles),
+                     [s.x_prev, m.inv_mass, m.tris, ct.mask, *capsules],
+                     [s.x, ct.cap, ct.push])  # fmt: skip
+
+    def _solve(self, constraints: _DistanceSet) -> None:
         """Gauss-Seidel over the constraints, colour by colour.
 
         Constraints of one colour share no vertex, so a colour is race-free in parallel (one
@@ -873,66 +405,66 @@ class Cloth:
         per_color = self.config.launch_per_color
         if per_color is None:
             per_color = self.device.is_cuda
-        ranges = cs.color_ranges if per_color else [(0, cs.size)]
+        ranges = constraints.color_ranges if per_color else [(0, constraints.size)]
+        m, x = self.model, self.state.x
         for start, count in ranges:
             if not count:
                 continue
-            if cs.alpha > 0.0:
-                inputs = [self.x, self.inv_mass, cs.pairs, cs.rest, cs.alpha, cs.lam, start]
-                wp.launch(_solve_distance, count, inputs, device=self.device)
+            if constraints.soft:
+                self._launch(k.solve_soft_distance, count,
+                             [m.inv_mass, constraints.pairs, constraints.rest,
+                              constraints.alpha_tilde, start], [x, constraints.lam])  # fmt: skip
             else:
-                inputs = [self.x, cs.pairs, cs.share_rest, int(cs.one_sided), start]
-                wp.launch(_solve_hard_distance, count, inputs, device=self.device)
+                self._launch(k.solve_hard_distance, count,
+                             [constraints.pairs, constraints.share_rest,
+                              int(constraints.one_sided), start], [x])  # fmt: skip
 
     # ----------------------------------------------------------------------------- outputs
     def positions(self) -> np.ndarray:
-        return self.x.numpy().astype(np.float64)
+        return self.state.x.numpy().astype(np.float64)
+
+    def velocities(self) -> np.ndarray:
+        return self.state.v.numpy().astype(np.float64)
 
     def max_area_ratio(self) -> float:
         """Largest triangle area over its rest area (the deformation metric), on the device."""
-        self._ratio.zero_()
-        wp.launch(
-            _max_area_ratio,
-            len(self.triangles),
-            [self.x, self.tris, self.rest_area, self._ratio],
-            device=self.device,
-        )
-        return float(self._ratio.numpy()[0])
+        m, ratio = self.model, self.outputs.ratio
+        ratio.zero_()
+        self._launch(k.max_area_ratio, len(m.triangles), [self.state.x, m.tris, m.rest_area],
+                     [ratio])  # fmt: skip
+        return float(ratio.numpy()[0])
 
     def extremes_since_clear(self) -> tuple[float, float]:
         """Largest vertex speed and distance from the gripper since ``clear_haptics``."""
-        speed, distance = self.extremes.numpy()
+        speed, distance = self.outputs.extremes.numpy()
         return float(speed), float(distance)
 
     def is_finite(self) -> bool:
-        return bool(np.isfinite(self.x.numpy()).all() and np.isfinite(self.v.numpy()).all())
-
-    def velocities(self) -> np.ndarray:
-        return self.v.numpy().astype(np.float64)
+        return bool(np.isfinite(self.state.x.numpy()).all() and
+                    np.isfinite(self.state.v.numpy()).all())  # fmt: skip
 
     def body_wrenches(self) -> tuple[np.ndarray, np.ndarray]:
         """Per-body force and torque (about the body origin) from the last step, world frame."""
-        return self.body_force.numpy().astype(np.float64), self.body_torque.numpy().astype(
-            np.float64
-        )
+        out = self.outputs
+        return out.body_force.numpy().astype(np.float64), out.body_torque.numpy().astype(float)
 
     def haptics(self) -> tuple[np.ndarray, np.ndarray]:
         """Summed sensor forces on the body and the signed inner/outer contact measure."""
-        return self.sensor_force.numpy().astype(np.float64), self.sensor_side.numpy().astype(
-            np.float64
-        )
+        out = self.outputs
+        return out.sensor_force.numpy().astype(np.float64), out.sensor_side.numpy().astype(float)
 
     def effector_contacts(self) -> np.ndarray:
         """Indices of vertices that touched the end effector since ``clear_haptics``."""
-        return np.flatnonzero(self.effector_contact.numpy())
+        return np.flatnonzero(self.outputs.effector_contact.numpy())
 
-    def contacts(self) -> dict[str, np.ndarray]:
+    def contacts_now(self) -> dict[str, np.ndarray]:
         """The last step's contacts: vertex, body, force on the body, and contact point."""
-        cap = self.contact_cap.numpy()
+        ct = self.contacts
+        cap = ct.cap.numpy()
         idx = np.flatnonzero(cap >= 0)
         return {
             "vertex": idx,
-            "body": self.cap_body.numpy()[cap[idx]],
-            "force": self.contact_force.numpy()[idx].astype(np.float64),
-            "point": self.contact_point.numpy()[idx].astype(np.float64),
+            "body": self.model.cap_body.numpy()[cap[idx]],
+            "force": ct.force.numpy()[idx].astype(np.float64),
+            "point": ct.point.numpy()[idx].astype(np.float64),
         }

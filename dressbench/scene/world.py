@@ -14,7 +14,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from .cloth import Cloth, ClothConfig
+from .cloth import Cloth, ClothConfig, ClothMesh, ContactBodies
 from .garment import BACK, SEAM, Gown, GownConfig, make_gown, straight_pairs
 from .geometry import interpolate_pose, quat_matrix, transform_points
 from .gripper import Hoop
@@ -64,30 +64,30 @@ class Scene:
         self.pinned = np.sort(g.feature_loop)  # the gripper holds the sleeve's opening
         anchor, length = tethers(g, self.pinned)
         spans = [straight_pairs(g, k) for k in config.cloth.span_steps]
-        self.cloth = Cloth(
-            g.positions,
-            g.masses,
-            g.triangles,
-            g.rest_areas,
-            g.edges,
-            g.edge_rest,
-            g.bend_pairs,
-            g.bend_rest,
-            self.pinned,
-            anchor,
-            length,
+        mesh = ClothMesh(
+            positions=g.positions,
+            masses=g.masses,
+            triangles=g.triangles,
+            rest_areas=g.rest_areas,
+            edges=g.edges,
+            edge_rest=g.edge_rest,
+            shear_edges=np.all(np.abs(np.diff(g.pattern[g.edges], axis=1)[:, 0]) > 1e-9, axis=1),
+            bend_pairs=g.bend_pairs,
+            bend_rest=g.bend_rest,
+            pinned=self.pinned,
+            tether_anchor=anchor,
+            tether_length=length,
+            spans=np.concatenate([p for p, _ in spans] or [np.zeros((0, 2), np.int32)]),
+            span_rest=np.concatenate([r for _, r in spans] or [np.zeros(0)]),
+        )
+        bodies = ContactBodies(
             n_bodies=len(self.human.body_names),
-            n_sensors=len(self.human.sensor_body),
-            effector_body=self.human.body_names.index("hand_r"),
             capsule_body=self.human.capsule_body,
             capsule_radius=self.human.capsule_radius,
-            config=config.cloth,
-            dt=config.dt,
-            device=config.device,
-            spans=np.concatenate([p for p, _ in spans]) if spans else None,
-            span_rest=np.concatenate([r for _, r in spans]) if spans else None,
-            shear_edges=np.all(np.abs(np.diff(g.pattern[g.edges], axis=1)[:, 0]) > 1e-9, axis=1),
+            n_sensors=len(self.human.sensor_body),
+            effector_body=self.human.body_names.index("hand_r"),
         )
+        self.cloth = Cloth(mesh, bodies, config.cloth, dt=config.dt, device=config.device)
         self.hoop = Hoop(self.human, g.positions[g.feature_loop])
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
