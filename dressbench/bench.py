@@ -9,6 +9,7 @@ import numpy as np
 
 from .checks import check_device, check_gown_vertices, check_int
 from .observation import human_observation
+from .scene.body import N_ACTIONS
 from .scene.garment import GownConfig
 from .scene.world import Scene, SceneConfig
 from .state import measure
@@ -21,7 +22,7 @@ def reach_action(step: int, period: int = 200) -> np.ndarray:
     """A scripted right arm that swings forward to shoulder height, reaching straight ahead
     through the sleeve held in front of the shoulder, and back (a period of ``period`` steps)."""
     phase = 0.5 - 0.5 * np.cos(2.0 * np.pi * step / period)
-    action = np.zeros(11)
+    action = np.zeros(N_ACTIONS)
     action[5] = -0.45 * phase  # shoulder elevation: from hanging to horizontal
     action[7] = 0.66 * phase  # shoulder swing: from the side to straight ahead
     action[8] = -phase  # elbow: straighten

@@ -5,7 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, replace
 
 from .checks import check_gown_vertices, check_horizon
-from .observation import ABLATIONS
+from .observation import check_ablation
+from .plugins.protocols import ROBOT_DT
 from .scene.world import SceneConfig
 
 
@@ -37,9 +38,12 @@ class EnvConfig:
     scene: SceneConfig = field(default_factory=SceneConfig)
 
     def __post_init__(self) -> None:
-        if self.ablation not in ABLATIONS:
+        check_ablation(self.ablation)
+        step = self.scene.dt * self.scene.frame_skip
+        if abs(step - ROBOT_DT) > 1e-9:
             raise ValueError(
-                f"unknown ablation {self.ablation!r}: choose one of {', '.join(ABLATIONS)}"
+                f"the policy step is {ROBOT_DT} s, which robot strategies and humans act on: "
+                f"dt x frame_skip = {self.scene.dt} x {self.scene.frame_skip} = {step:.4g} s"
             )
         check_horizon(self.horizon)
         check_gown_vertices(self.gown_vertices)

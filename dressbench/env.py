@@ -18,7 +18,7 @@ from pettingzoo import ParallelEnv
 from .config import EnvConfig
 from .metrics import deformation_reward, geodesic_contact_reward, upright_reward
 from .observation import human_observation, observation_size
-from .plugins.protocols import ROBOT_DT, ROBOT_MAX_SPEED
+from .plugins.protocols import HUMAN_ACTION_SIZE, ROBOT_ACTION_SIZE, ROBOT_DT, ROBOT_MAX_SPEED
 from .scene.world import Scene
 from .state import DressingState, measure
 
@@ -32,7 +32,11 @@ FAILURE_STEP_REWARD = -17.0  # per remaining step: fingertip 1 m off, deformatio
 class DressingEnv(ParallelEnv):
     """Robot-assisted dressing with a robot strategy and a human to be trained."""
 
-    metadata = {"name": "dressbench_v0", "render_modes": ["rgb_array"], "render_fps": 25}
+    metadata = {
+        "name": "dressbench_v0",
+        "render_modes": ["rgb_array"],
+        "render_fps": round(1 / ROBOT_DT),
+    }
 
     def __init__(
         self,
@@ -68,7 +72,7 @@ class DressingEnv(ParallelEnv):
 
     @functools.cache  # noqa: B019
     def action_space(self, agent: str) -> spaces.Box:
-        size = 11 if agent == HUMAN else 3
+        size = HUMAN_ACTION_SIZE if agent == HUMAN else ROBOT_ACTION_SIZE
         return spaces.Box(-1.0, 1.0, (size,), np.float32)
 
     # ----------------------------------------------------------------------------- episode
@@ -104,8 +108,8 @@ class DressingEnv(ParallelEnv):
     def step(self, actions: dict[str, np.ndarray]):
         if not self.agents:
             raise RuntimeError("step() called on a finished episode: call reset() first")
-        human_action, human_clipped = _checked(actions, HUMAN, 11)
-        robot_action, robot_clipped = _checked(actions, ROBOT, 3)
+        human_action, human_clipped = _checked(actions, HUMAN, HUMAN_ACTION_SIZE)
+        robot_action, robot_clipped = _checked(actions, ROBOT, ROBOT_ACTION_SIZE)
         self._gripper_velocity = robot_action * ROBOT_MAX_SPEED
         pose = self.scene.gripper_pose.copy()
         pose[:3] = np.clip(pose[:3] + self._gripper_velocity * ROBOT_DT, *WORKSPACE)

@@ -8,9 +8,12 @@ A learned policy may read the forces on a log scale (``scale_haptics``), a choic
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from .scene.body import N_DOFS, N_SENSORS
 
 if TYPE_CHECKING:  # annotations only: the layout and scaling load without the physics
     from .scene.world import Scene
@@ -18,20 +21,43 @@ if TYPE_CHECKING:  # annotations only: the layout and scaling load without the p
 
 ABLATIONS = ("complete", "no_haptics", "no_task")
 HAPTIC_SCALES = ("newtons", "log")  # the forces as measured (the paper), or log(1 + |f| / 1 N)
-N_DOFS = 22
-N_SENSORS = 22
-FORCES = slice(3 * N_DOFS + 6, 3 * N_DOFS + 6 + 3 * N_SENSORS)  # where the forces sit
+
+
+@dataclass(frozen=True)
+class ObservationLayout:
+    """Where each block sits in an ablation's observation vector, for plugin authors
+    (``obs[layout.task]``); None where the ablation drops the block."""
+
+    cos_q: slice
+    sin_q: slice
+    dq: slice
+    centroid: slice  # of the sleeve opening's feature loop
+    tip_offset: slice  # fingertip - centroid
+    forces: slice | None  # haptic forces, (N_SENSORS, 3) row by row
+    signs: slice | None  # contact surface signs, one per sensor
+    task: slice | None  # the task vector
+    size: int
+
+
+def observation_layout(ablation: str = "complete") -> ObservationLayout:
+    """The layout of the observation of ``ablation``."""
+    check_ablation(ablation)
+    sizes = {"cos_q": N_DOFS, "sin_q": N_DOFS, "dq": N_DOFS, "centroid": 3, "tip_offset": 3}
+    if ablation != "no_haptics":
+        sizes |= {"forces": 3 * N_SENSORS, "signs": N_SENSORS}
+    if ablation != "no_task":
+        sizes["task"] = 3
+    blocks: dict[str, slice | None] = {"forces": None, "signs": None, "task": None}
+    start = 0
+    for name, size in sizes.items():
+        blocks[name] = slice(start, start + size)
+        start += size
+    return ObservationLayout(**blocks, size=start)
 
 
 def observation_size(ablation: str = "complete") -> int:
     """Length of the observation vector for an ablation."""
-    check_ablation(ablation)
-    size = 3 * N_DOFS + 6 + 4 * N_SENSORS + 3
-    if ablation == "no_haptics":
-        size -= 4 * N_SENSORS
-    elif ablation == "no_task":
-        size -= 3
-    return size
+    return observation_layout(ablation).size
 
 
 def check_ablation(ablation: str) -> None:
@@ -53,13 +79,14 @@ def scale_haptics(observation: np.ndarray, ablation: str, scale: str) -> np.ndar
     a running normalisation of the raw forces (dominated by the rare rim spikes) does not give.
     """
     check_haptic_scale(scale)
-    if scale == "newtons" or ablation == "no_haptics":
+    block = observation_layout(ablation).forces
+    if scale == "newtons" or block is None:
         return observation
     out = np.array(observation, dtype=np.float32)
-    forces = out[..., FORCES].reshape(*out.shape[:-1], N_SENSORS, 3)
+    forces = out[..., block].reshape(*out.shape[:-1], N_SENSORS, 3)
     magnitude = np.linalg.norm(forces, axis=-1, keepdims=True)
     factor = np.log1p(magnitude) / np.maximum(magnitude, 1e-12)
-    out[..., FORCES] = (forces * factor).reshape(*out.shape[:-1], 3 * N_SENSORS)
+    out[..., block] = (forces * factor).reshape(*out.shape[:-1], 3 * N_SENSORS)
     return out
 
 

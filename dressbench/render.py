@@ -21,6 +21,7 @@ from matplotlib.patches import Rectangle
 from mpl_toolkits.mplot3d import Axes3D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from .plugins.protocols import ROBOT_DT
 from .scene.geometry import quat_matrix
 from .scene.world import Scene
 
@@ -318,7 +319,7 @@ def shade(
 VIDEO_SUFFIXES = (".gif", ".mp4")
 
 
-def save_video(frames: list[np.ndarray], path: str | Path, fps: int = 25) -> None:
+def save_video(frames: list[np.ndarray], path: str | Path, fps: int = round(1 / ROBOT_DT)) -> None:
     """Write frames as ``.gif`` (Pillow) or ``.mp4`` (imageio-ffmpeg), chosen by the suffix."""
     path = Path(path)
     suffix = path.suffix.lower()
@@ -368,7 +369,6 @@ def render_rollout(
     from . import make_human_env
     from .checks import check_int, check_output_file
     from .plugins import load_human
-    from .plugins.protocols import ROBOT_DT
 
     path = check_output_file(path, VIDEO_SUFFIXES, "video")
     _require_writer(path.suffix.lower())
@@ -389,5 +389,5 @@ def render_rollout(
             frames.append(renderer.render(scene, caption, info.get("arm_progress", 0.0)))
         if terminated or truncated:
             break
-    save_video(frames, path, fps=fps or round(25 / every))
+    save_video(frames, path, fps=fps or round(1 / (ROBOT_DT * every)))
     return Path(path)

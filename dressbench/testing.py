@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from .plugins import HUMAN_API_VERSION, ROBOT_API_VERSION, load_human, load_robot
+from .plugins.protocols import HUMAN_ACTION_SIZE
 
 CHECK_STEPS = 10
 CHECK_VERTICES = 600  # a coarse gown keeps the check fast
@@ -49,11 +50,12 @@ def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
         action = np.asarray(strategy.act(observations["robot"]), dtype=float)
         _require(action.shape == (3,), f"{name}.act must return shape (3,), got {action.shape}")
         _require(np.isfinite(action).all(), f"{name}.act returned a non-finite action {action}")
-        observations, *_ = env.step({"robot": action, "human": np.zeros(11)})
+        observations, *_ = env.step({"robot": action, "human": np.zeros(HUMAN_ACTION_SIZE)})
 
 
 def check_human_plugin(human: str | Any, robot: str = "fixed", steps: int = CHECK_STEPS) -> None:
-    """Declared robot and ablation, (11,) finite actions on the observation it was made for."""
+    """Declared robot and ablation, finite actions of the human's size on the observation it was
+    made for."""
     from . import make_human_env
     from .observation import ABLATIONS
 
@@ -72,7 +74,8 @@ def check_human_plugin(human: str | Any, robot: str = "fixed", steps: int = CHEC
     policy.reset(0)
     for _ in range(steps):
         action = np.asarray(policy.act(observation), dtype=float)
-        _require(action.shape == (11,), f"{name}.act must return shape (11,), got {action.shape}")
+        shape = (HUMAN_ACTION_SIZE,)
+        _require(action.shape == shape, f"{name}.act must return shape {shape}, got {action.shape}")
         _require(np.isfinite(action).all(), f"{name}.act returned a non-finite action {action}")
         observation, *_ = env.step(action)
 

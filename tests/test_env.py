@@ -161,3 +161,14 @@ def test_rgb_array_rendering_returns_a_picture():
     assert frame.ndim == 3 and frame.shape[2] == 3 and frame.dtype == np.uint8
     assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 50  # not a blank image
     assert dressbench.make_env("fixed", **SMALL).render() is None
+
+
+def test_a_scene_whose_steps_do_not_add_up_to_the_policy_step_is_refused():
+    from dataclasses import replace
+
+    from dressbench.config import EnvConfig
+    from dressbench.scene.world import SceneConfig
+
+    EnvConfig(scene=replace(SceneConfig(), dt=0.005, frame_skip=8))  # a finer physics is fine
+    with pytest.raises(ValueError, match="the policy step is 0.04 s"):
+        EnvConfig(scene=replace(SceneConfig(), frame_skip=2))

@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dressbench.observation import FORCES, N_SENSORS, observation_size, scale_haptics
+from dressbench.observation import N_SENSORS, observation_layout, observation_size, scale_haptics
+
+FORCES = observation_layout().forces
 
 
 def _with_forces(forces: np.ndarray) -> np.ndarray:
@@ -40,6 +42,16 @@ def test_a_batch_scales_like_each_of_its_rows() -> None:
     batch = rng.normal(0.0, 50.0, (4, observation_size())).astype(np.float32)
     rows = [scale_haptics(row, "complete", "log") for row in batch]
     np.testing.assert_allclose(scale_haptics(batch, "complete", "log"), rows, rtol=1e-6)
+
+
+def test_the_layout_tiles_each_ablations_observation_in_the_documented_order() -> None:
+    for ablation, size in (("complete", 163), ("no_haptics", 75), ("no_task", 160)):
+        layout = observation_layout(ablation)
+        blocks = [b for b in vars(layout).values() if isinstance(b, slice)]
+        assert [b.start for b in blocks] == [0] + [b.stop for b in blocks[:-1]]
+        assert blocks[-1].stop == layout.size == size
+    assert observation_layout("no_haptics").forces is None
+    assert observation_layout("no_task").task is None
 
 
 def test_an_unknown_scale_is_refused() -> None:

@@ -9,9 +9,8 @@ from __future__ import annotations
 import pandas as pd
 from matplotlib.figure import Figure
 
+from ..plugins.protocols import ROBOT_DT
 from .rollouts import SUCCESS_DEPTH
-
-STEP_SECONDS = 0.04  # one policy step: 4 simulation steps of 0.01 s
 
 
 def curves_figure(curves: pd.DataFrame, robot: str, success_depth: float = SUCCESS_DEPTH) -> Figure:
@@ -33,7 +32,7 @@ def curves_figure(curves: pd.DataFrame, robot: str, success_depth: float = SUCCE
     progress_axes.set(title="arm progress", ylabel="depth into the sleeve (m)")
     deformation_axes.set(title="max deformation", ylabel="running max of triangle area ratio")
     for axes in (progress_axes, deformation_axes):
-        axes.set_xlabel(f"policy step ({STEP_SECONDS} s)")
+        axes.set_xlabel(f"policy step ({ROBOT_DT} s)")
         axes.grid(alpha=0.3)
     progress_axes.legend(fontsize="small")
     figure.suptitle(f"robot strategy: {robot} (mean ± std over episodes)")

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..plugins import load_robot
+from ..plugins.protocols import HUMAN_ACTION_SIZE
 from ..plugins.registry import _one_line
 
 CHECK_VERTICES = 300  # the gown of the check's env: coarse, the check is about interfaces
@@ -41,7 +42,7 @@ def robot_problem(name: str) -> str | None:
         problem = robot_action_problem(action)
         if problem:
             return problem
-        env.step({ROBOT: np.asarray(action, dtype=float), HUMAN: np.zeros(11)})
+        env.step({ROBOT: np.asarray(action, dtype=float), HUMAN: np.zeros(HUMAN_ACTION_SIZE)})
     except Exception as exc:  # a plugin may raise anything; say what, in one line
         return f"its check (one reset and one act) failed: {_one_line(exc)}"
     return None
@@ -72,7 +73,7 @@ def human_metadata_problem(policy: Any) -> str | None:
 def human_problem(policy: Any, observation: np.ndarray) -> str | None:
     """Why a human policy cannot be evaluated, or None: its metadata (``human_metadata_problem``),
     then ``reset(0)`` and one ``act`` on ``observation`` (a real one, of its ablation), which
-    must return 11 finite numbers."""
+    must return HUMAN_ACTION_SIZE finite numbers."""
     problem = human_metadata_problem(policy)
     if problem:
         return problem
@@ -84,8 +85,8 @@ def human_problem(policy: Any, observation: np.ndarray) -> str | None:
             f"act failed on a {policy.ablation!r} observation of {observation.size} numbers: "
             f"{_one_line(exc)}"
         )
-    if action.shape != (11,):
-        return f"act returned an action of shape {action.shape}, expected (11,)"
+    if action.shape != (HUMAN_ACTION_SIZE,):
+        return f"act returned an action of shape {action.shape}, expected ({HUMAN_ACTION_SIZE},)"
     if not np.isfinite(action).all():
         return "act returned a non-finite action"
     return None

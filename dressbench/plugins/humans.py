@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..observation import FORCES, N_DOFS
+from ..observation import observation_layout
 
 
 class Passive:
@@ -95,7 +95,8 @@ class Scripted:
 
     def act(self, observation: np.ndarray) -> np.ndarray:
         obs = np.asarray(observation, dtype=float)
-        q = np.arctan2(obs[N_DOFS : 2 * N_DOFS], obs[:N_DOFS])
+        layout = observation_layout(self.ablation)
+        q = np.arctan2(obs[layout.sin_q], obs[layout.cos_q])
         tip_jac, wrist_jac = self._body.hand_jacobians(q)  # also poses the body model
         tip, wrist, _, shoulder = self._body.arm_chain(self._body.body_transforms())
         direction, lined_up = self._direction(obs, shoulder)
@@ -116,8 +117,8 @@ class Scripted:
 
     def _direction(self, obs: np.ndarray, shoulder: np.ndarray) -> tuple[np.ndarray, bool]:
         """Where the fingertip should go, and whether it is lined up on the way in."""
-        feature = 3 * N_DOFS
-        centroid, offset = obs[feature : feature + 3], obs[feature + 3 : feature + 6]
+        layout = observation_layout(self.ablation)
+        centroid, offset = obs[layout.centroid], obs[layout.tip_offset]
         axis = _unit(centroid - shoulder)
         along = offset @ axis
         tip = centroid + offset
@@ -127,16 +128,17 @@ class Scripted:
             if np.linalg.norm((tip - below)[:2]) > self.aligned and tip[2] < entry[2]:
                 return _unit(below - tip), False  # under the way in, then up into it
             return _unit(entry - tip), False
-        task = None if self.ablation == "no_task" else _unit(obs[-3:])
+        task = None if layout.task is None else _unit(obs[layout.task])
         if along > 0.0 and task is not None and task @ axis > 0.5:
             return task, True  # through the opening: the task vector leads on
         return axis, True
 
     def _gain(self, obs: np.ndarray) -> float:
         """+1 without haptic force, falling to -1 (moving back) at ``back_off_force``."""
-        if self.ablation == "no_haptics":
+        block = observation_layout(self.ablation).forces
+        if block is None:
             return 1.0
-        forces = obs[FORCES].reshape(-1, 3)
+        forces = obs[block].reshape(-1, 3)
         force = float(np.linalg.norm(forces.sum(axis=0)))
         return 1.0 - 2.0 * min(force / self.back_off_force, 1.0)
 

@@ -12,10 +12,15 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..scene.body import N_ACTIONS
+from ..scene.clock import POLICY_DT
+
 ROBOT_API_VERSION = 1
 HUMAN_API_VERSION = 1
 ROBOT_MAX_SPEED = 0.1  # m/s: the gripper speed a robot action of 1 means
-ROBOT_DT = 0.04  # s: one policy step, over which a robot action is applied
+ROBOT_DT = POLICY_DT  # s: one policy step, over which a robot action is applied
+ROBOT_ACTION_SIZE = 3  # the gripper's velocity
+HUMAN_ACTION_SIZE = N_ACTIONS  # PD targets (or torques) of the human's actuated joints
 OBS_TIME = 6  # index of the time (s) in the robot's observation
 ROBOT_GROUP = "dressbench.robots"
 HUMAN_GROUP = "dressbench.humans"

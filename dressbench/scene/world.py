@@ -14,6 +14,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from .clock import FRAME_SKIP, SIM_DT
 from .cloth import Cloth, ClothConfig, ClothMesh, ContactBodies
 from .garment import BACK, SEAM, Gown, GownConfig, make_gown, straight_pairs
 from .geometry import interpolate_pose, quat_matrix, transform_points
@@ -30,8 +31,8 @@ class SceneConfig:
     gown: GownConfig = field(default_factory=GownConfig)
     cloth: ClothConfig = field(default_factory=ClothConfig)
     human: HumanConfig = field(default_factory=HumanConfig)
-    dt: float = 0.01  # s, one simulation step
-    frame_skip: int = 4  # simulation steps per policy step
+    dt: float = SIM_DT  # s, one simulation step
+    frame_skip: int = FRAME_SKIP  # simulation steps per policy step (see scene/clock.py)
     settle_steps: int = 200  # simulation steps to let the held gown come to rest, once
     max_speed: float = 30.0  # m/s, a faster cloth vertex means the simulation ran away
     max_distance: float = 3.0  # m from the gripper, a farther cloth vertex means the same

@@ -27,6 +27,7 @@ import safetensors.numpy
 from safetensors import SafetensorError
 
 from ..observation import HAPTIC_SCALES, check_haptic_scale, scale_haptics
+from ..plugins.protocols import HUMAN_ACTION_SIZE
 
 if TYPE_CHECKING:
     from stable_baselines3.common.on_policy_algorithm import OnPolicyAlgorithm
@@ -36,7 +37,7 @@ if TYPE_CHECKING:
 FORMAT = "dressbench-policy"
 FORMAT_VERSION = 1
 ACTIVATION = "tanh"
-ACTION_SIZE = 11  # the human's action, see plugins/protocols.py
+ACTION_SIZE = HUMAN_ACTION_SIZE
 JSON_SUFFIX = ".json"
 TENSORS_SUFFIX = ".safetensors"
 # Largest files read, checked with os.stat before reading and enforced by a bounded read, so
@@ -96,7 +97,7 @@ class TrainedPolicy:
         """Nothing to do: the policy is deterministic and keeps no state between steps."""
 
     def act(self, observation: np.ndarray) -> np.ndarray:
-        """The mean action for a raw (unnormalised) observation, clipped to [-1, 1], shape (11,)."""
+        """The mean action for a raw (unnormalised) observation, clipped to [-1, 1]."""
         obs = np.asarray(observation, dtype=np.float64)
         if obs.shape != (self.obs_dim,):
             raise ValueError(

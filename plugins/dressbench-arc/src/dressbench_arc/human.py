@@ -5,13 +5,13 @@ from __future__ import annotations
 from typing import ClassVar
 
 import numpy as np
-from dressbench.observation import N_DOFS
+from dressbench.observation import observation_layout
 from dressbench.scene.human import Human
 
 
 class FollowTask:
     """Each step, nudge the right arm's joint targets by a fixed-gain Jacobian-transpose step
-    along the observation's task vector (its last 3 numbers, a unit vector).
+    along the observation's task vector (a unit vector).
 
     Unlike the built-in ``scripted`` human it has no approach phase, no damped least squares
     and ignores the haptic forces: a deliberately simple baseline to compare learned humans to.
@@ -32,8 +32,9 @@ class FollowTask:
     def act(self, observation: np.ndarray) -> np.ndarray:
         """PD targets in [-1, 1]^11: the current pose plus ``gain * J^T task``."""
         obs = np.asarray(observation, dtype=float)
-        q = np.arctan2(obs[N_DOFS : 2 * N_DOFS], obs[:N_DOFS])
+        layout = observation_layout(self.ablation)
+        q = np.arctan2(obs[layout.sin_q], obs[layout.cos_q])
         jacobian = self._body.fingertip_jacobian(q)[:, self._arm]
         target = q.copy()
-        target[self._arm] += self.gain * jacobian.T @ obs[-3:]
+        target[self._arm] += self.gain * jacobian.T @ obs[layout.task]
         return self._body.action_for(target)
