@@ -68,6 +68,7 @@ def test_the_paper_recipe_trains_torques_and_its_policy_is_scored_with_torques(
     assert (paper.algo, paper.actuation, paper.samples_per_update) == ("trpo", "torque", 50_000)
     assert paper.curriculum is None and TrainConfig.preset().actuation == "pd"
     assert (paper.haptics, TrainConfig.preset().haptics) == ("newtons", "log")
+    assert paper.norm_epsilon == 1e-8  # SB3's VecNormalize default
     options = TINY | {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
     options |= {"timesteps": 128, "samples_per_update": 128}
     path = train(TrainConfig.preset("paper", **(options | {"name": "paperish"})), progress=False)
@@ -84,6 +85,7 @@ def test_a_tiny_training_run_exports_a_policy_that_evaluate_can_name(tmp_path, p
     assert meta["robot"] == "fixed" and meta["algorithm"] == "trpo" and meta["steps"] >= 256
     assert meta["seed"] == 0 and "versions" in meta and "git_commit" in meta
     assert meta["haptics"] == "log" and load_policy(path).haptics == "log"  # the default recipe
+    assert meta["obs_normalization"]["epsilon"] == 0.1  # a floor under each feature's variance
     logs = tmp_path / "runs" / "tiny" / "logs"
     assert (logs / "progress.csv").exists()
     assert any(f.name.startswith("events.out.tfevents") for f in logs.iterdir())

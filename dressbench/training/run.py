@@ -96,7 +96,8 @@ class TrainingRun:
         venv.seed(cfg.seed)
         if self.norm_path.exists():
             return VecNormalize.load(str(self.norm_path), venv)
-        return VecNormalize(venv, norm_obs=True, norm_reward=True, gamma=cfg.gamma)
+        return VecNormalize(venv, norm_obs=True, norm_reward=True, gamma=cfg.gamma,
+                            epsilon=cfg.norm_epsilon)  # fmt: skip
 
     def _model(self, venv: VecNormalize):
         """A fresh learner, or the checkpointed one and how many steps it has done."""

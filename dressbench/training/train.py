@@ -57,6 +57,10 @@ class TrainConfig:
     target_kl: float = 0.01
     actuation: str = "pd"  # the human's action: PD targets, or the paper's torques ("torque")
     haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
+    # added to each feature's running variance when normalising (VecNormalize's epsilon): a
+    # floor of 0.32 on the std, so a feature that barely varied (an untouched sensor, a still
+    # joint) is not blown up to the clip at its first change; SB3's default is 1e-8
+    norm_epsilon: float = 0.1
     checkpoint_every: int = 20_000  # environment steps between checkpoints
     curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
     out: str = "runs"
@@ -76,6 +80,8 @@ class TrainConfig:
         check_horizon(self.horizon)
         check_int(self.samples_per_update, "samples_per_update", 1)
         check_int(self.checkpoint_every, "checkpoint_every", 1)
+        if not self.norm_epsilon > 0.0:
+            raise ValueError(f"norm_epsilon must be > 0, got {self.norm_epsilon}")
         check_name(self.name)
 
     def check(self) -> None:
@@ -106,7 +112,7 @@ class TrainConfig:
         base = {"recipe": recipe}
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
-                     "haptics": "newtons", "curriculum": None}  # fmt: skip
+                     "haptics": "newtons", "norm_epsilon": 1e-8, "curriculum": None}  # fmt: skip
         return cls(**(base | changes))
 
     @property
