@@ -9,12 +9,9 @@ only when an environment is made. It registers the human's gymnasium env as
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from .config import EnvConfig
-    from .env import DressingEnv
-    from .single_agent import HumanEnv
+from .factory import make_env, make_human_env, parallel_env
 
 __version__ = "0.2.0"
 __all__ = [
@@ -29,59 +26,6 @@ __all__ = [
 ]
 
 ENV_ID = "dressbench/Dressing-v0"  # gymnasium.make(ENV_ID, robot=..., **EnvConfig options)
-
-
-def make_env(
-    robot: str | Any = "fixed",
-    *,
-    render_mode: str | None = None,
-    config: EnvConfig | None = None,
-    **options: Any,
-) -> DressingEnv:
-    """The two-agent PettingZoo environment for a robot strategy (a plugin name or instance).
-
-    ``options`` override fields of ``EnvConfig``: ablation, horizon, gown_vertices, device,
-    reward, scene.
-    """
-    from .config import EnvConfig
-    from .env import DressingEnv
-
-    name = robot if isinstance(robot, str) else None
-    return DressingEnv(
-        _robot(robot), EnvConfig.build(config, **options), render_mode, robot_name=name
-    )
-
-
-def parallel_env(
-    robot: str | Any = "fixed",
-    *,
-    render_mode: str | None = None,
-    config: EnvConfig | None = None,
-    **options: Any,
-) -> DressingEnv:
-    """PettingZoo's name for ``make_env``: the two-agent ``ParallelEnv`` (agents robot, human)."""
-    return make_env(robot, render_mode=render_mode, config=config, **options)
-
-
-def make_human_env(
-    robot: str | Any = "fixed",
-    *,
-    render_mode: str | None = None,
-    config: EnvConfig | None = None,
-    **options: Any,
-) -> HumanEnv:
-    """A gymnasium env of the human alone, the robot driven by the named strategy."""
-    from .single_agent import HumanEnv
-
-    return HumanEnv(make_env(robot, render_mode=render_mode, config=config, **options))
-
-
-def _robot(robot: str | Any) -> Any:
-    if isinstance(robot, str):
-        from .plugins import load_robot
-
-        return load_robot(robot)
-    return robot
 
 
 def train(robot: str = "fixed", **options: Any):
@@ -152,7 +96,7 @@ def _register_gymnasium() -> None:
     except ImportError:  # pragma: no cover - gymnasium is a dependency
         return
     if ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=ENV_ID, entry_point="dressbench:make_human_env")
+        gymnasium.register(id=ENV_ID, entry_point="dressbench.factory:make_human_env")
 
 
 _register_gymnasium()

@@ -71,7 +71,7 @@ def bench_env(vertices: int, steps: int, device: str = "cpu", repeats: int = 3) 
 
     Only ``env.step`` is timed: the policy's own thinking is not the environment's cost.
     """
-    from . import make_human_env
+    from .factory import make_human_env
     from .plugins import load_human
 
     env = make_human_env("fixed", gown_vertices=vertices, horizon=steps, device=device)

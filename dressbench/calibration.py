@@ -43,7 +43,7 @@ def sleeve_over_arm(scene: Scene, seconds: float) -> tuple[float, float]:
 
 def episode(robot: str, human: str, seed: int, horizon: int = 400) -> tuple[float, float]:
     """One seeded episode of a human plugin with a robot strategy."""
-    from . import make_env
+    from .factory import make_env
     from .plugins import load_human
 
     env = make_env(robot, horizon=horizon)

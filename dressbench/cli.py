@@ -324,7 +324,7 @@ def report_command(results: str, videos: bool, workers: int) -> None:
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
 def render(robot, human, path, seed, gown_vertices):
     """A headless video of one rollout (the human's capsules, the gown, the gripper)."""
-    from .render import render_rollout
+    from .video import render_rollout
 
     video = render_rollout(robot, human, path, seed=seed, gown_vertices=gown_vertices)
     click.echo(f"video written to {video}")

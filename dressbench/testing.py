@@ -24,8 +24,8 @@ CHECK_VERTICES = 600  # a coarse gown keeps the check fast
 def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
     """Seeded reset poses, finite unit-quaternion poses inside the workspace, (3,) finite
     actions, a running env."""
-    from . import make_env
     from .env import start_pose_problem
+    from .factory import make_env
 
     name = robot if isinstance(robot, str) else type(robot).__name__
     strategy = load_robot(robot) if isinstance(robot, str) else robot
@@ -56,7 +56,7 @@ def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
 def check_human_plugin(human: str | Any, robot: str = "fixed", steps: int = CHECK_STEPS) -> None:
     """Declared robot and ablation, finite actions of the human's size on the observation it was
     made for."""
-    from . import make_human_env
+    from .factory import make_human_env
     from .observation import ABLATIONS
 
     name = human if isinstance(human, str) else type(human).__name__

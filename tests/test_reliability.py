@@ -28,10 +28,10 @@ from dressbench.cli import main
 from dressbench.config import EnvConfig
 from dressbench.evaluation import io as atomic
 from dressbench.observation import ABLATIONS, observation_size
-from dressbench.render import render_rollout
 from dressbench.training import TrainConfig, policy_file
 from dressbench.training.policy_file import FORMAT, FORMAT_VERSION, PolicyFileError, load_policy
 from dressbench.training.run import TrainingRun
+from dressbench.video import render_rollout
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])

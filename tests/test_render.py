@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from matplotlib.colors import rgb_to_hsv
 
-from dressbench.render import GOWN, SKIN, Renderer, render_frame, save_video
+from dressbench.render import GOWN, SKIN, Renderer, render_frame
 from dressbench.scene.garment import GownConfig
 from dressbench.scene.world import Scene, SceneConfig
+from dressbench.video import save_video
 
 GRIPPER = np.array([0.45, -0.19, 0.52, 0.0, 0.0, 0.0, 1.0])  # in front of the right shoulder
 W, H = 240, 180  # small frames keep the tests fast
@@ -130,7 +131,8 @@ def test_video_frames_show_two_views_side_by_side_with_a_caption_that_fits(rest:
 
 def test_rollout_video_is_two_views_at_video_size(tmp_path) -> None:
     iio = pytest.importorskip("imageio.v3")
-    from dressbench.render import VIDEO_SIZE, render_rollout
+    from dressbench.render import VIDEO_SIZE
+    from dressbench.video import render_rollout
 
     for suffix in (".gif", ".mp4"):
         path = render_rollout("fixed", "scripted", tmp_path / f"clip{suffix}", every=2,

@@ -133,14 +133,14 @@ def test_the_report_is_self_contained_and_videos_are_cached(results):
 
 
 def test_a_video_that_fails_to_render_is_a_note(results, tmp_path, monkeypatch):
-    import dressbench.render
+    import dressbench.video
 
     def broken(*args, **kwargs):
         raise RuntimeError("no ffmpeg here")
 
     copy = tmp_path / "copy"
     shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
-    monkeypatch.setattr(dressbench.render, "render_rollout", broken)
+    monkeypatch.setattr(dressbench.video, "render_rollout", broken)
     text = write_report(copy, progress=False).read_text()
     assert text.count("video not rendered: RuntimeError: no ffmpeg here") == len(HUMANS)
     assert "<video" not in text

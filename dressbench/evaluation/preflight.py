@@ -102,7 +102,7 @@ class Observations:
 
     def __call__(self, ablation: str) -> np.ndarray:
         if ablation not in self._cache:
-            from .. import make_human_env
+            from ..factory import make_human_env
 
             env = make_human_env(
                 self.robot, ablation=ablation, gown_vertices=CHECK_VERTICES, horizon=CHECK_HORIZON

@@ -99,7 +99,7 @@ class Runner:
     """One cell's env and human policy, built once and reused for many seeded episodes."""
 
     def __init__(self, cell: Cell) -> None:
-        from .. import make_human_env
+        from ..factory import make_human_env
         from ..plugins import load_human
 
         self.cell = cell

@@ -117,13 +117,13 @@ def render_video(task: VideoTask) -> tuple[str | None, str]:
     """``(relative path, note)`` of a cell's video, rendered unless it exists; ``(None, why)``
     if rendering fails. Written to a hidden partial file first, so a killed run leaves no
     half video under the final name."""
-    from .. import render
+    from .. import video
 
     path = task.folder / task.path
     if not path.is_file():
         partial = path.with_name(f".{path.stem}.partial{VIDEO_SUFFIX}")
         try:
-            render.render_rollout(task.robot, task.human, partial, seed=task.seed,
+            video.render_rollout(task.robot, task.human, partial, seed=task.seed,
                                   **dict(task.options))  # fmt: skip
             write_poster(partial, path.with_suffix(".png"))
             partial.replace(path)

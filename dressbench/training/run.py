@@ -196,7 +196,7 @@ class _EnvFactory:
     def __call__(self):
         from stable_baselines3.common.monitor import Monitor
 
-        from .. import make_human_env
+        from ..factory import make_human_env
 
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
