@@ -55,8 +55,8 @@ def load_policy(path: str):
     ``path`` is a file of the pair or its stem. Given the name of a human plugin instead (e.g.
     ``"scripted"``, or a shipped policy's name), the error says so and what to call.
     """
-    from .training.policy_file import PolicyFileError
-    from .training.policy_file import load_policy as load
+    from .policy_file import PolicyFileError
+    from .policy_file import load_policy as load
 
     try:
         return load(path)

@@ -17,7 +17,7 @@ from dressbench.config import EnvConfig
 from dressbench.evaluation import Runner, evaluate, leaderboard, make_cell
 from dressbench.evaluation import workers as worker_module
 from dressbench.observation import observation_size
-from dressbench.training.policy_file import FORMAT, FORMAT_VERSION
+from dressbench.policy_file import FORMAT, FORMAT_VERSION
 
 TINY = {"horizon": 4, "gown_vertices": 300, "progress": False}  # an episode in ~0.05 s
 RUN = {"robot": "fixed", "episodes": 2, "seed": 0, "workers": 1, **TINY}

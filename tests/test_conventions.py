@@ -12,7 +12,7 @@ from pettingzoo import ParallelEnv
 
 import dressbench
 from dressbench.cli import aligned, main
-from dressbench.training.policy_file import PolicyFileError
+from dressbench.policy_file import PolicyFileError
 
 TINY = {"horizon": 3, "gown_vertices": 300}
 

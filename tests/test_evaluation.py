@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 import dressbench
+from dressbench import files as atomic
 from dressbench.evaluation import (
     SUCCESS_DEPTH,
     Runner,
@@ -22,7 +23,6 @@ from dressbench.evaluation import (
     run_episode,
     success_definition,
 )
-from dressbench.evaluation import io as atomic
 from dressbench.evaluation import workers as worker_module
 from dressbench.evaluation.report import stage_definitions
 from dressbench.evaluation.rollouts import STAGE_DEPTHS

@@ -22,14 +22,14 @@ from click.testing import CliRunner
 from fakes import install
 
 import dressbench
-from dressbench import plugins
+from dressbench import files as atomic
+from dressbench import plugins, policy_file
 from dressbench.bench import bench_scene
 from dressbench.cli import main
 from dressbench.config import EnvConfig
-from dressbench.evaluation import io as atomic
 from dressbench.observation import ABLATIONS, observation_size
-from dressbench.training import TrainConfig, policy_file
-from dressbench.training.policy_file import FORMAT, FORMAT_VERSION, PolicyFileError, load_policy
+from dressbench.policy_file import FORMAT, FORMAT_VERSION, PolicyFileError, load_policy
+from dressbench.training import TrainConfig
 from dressbench.training.run import TrainingRun
 from dressbench.video import render_rollout
 

@@ -100,7 +100,7 @@ def human_identity(name: str, policy: HumanPolicy) -> dict[str, Any]:
     verified) and its observation normalisation, wherever the file lies; an entry point is its
     name, distribution and version, plus the checksum when it returns a trained policy.
     """
-    from ..training.policy_file import TrainedPolicy  # light: NumPy and safetensors
+    from ..policy_file import TrainedPolicy  # light: NumPy and safetensors
 
     plugin = human_plugins()[name]
     identity: dict[str, Any] = {"name": name}

@@ -13,14 +13,14 @@ import json
 from collections.abc import Iterator, Mapping
 from typing import Any
 
-from .io import _jsonable
+from ..files import jsonable
 
 SHOWN = 2  # differences named in a message
 
 
 def canonical(data: Any) -> str:
     """The stable JSON text of ``data``: sorted keys, no spaces, tuples as lists, exact floats."""
-    return json.dumps(data, sort_keys=True, separators=(",", ":"), default=_jsonable)
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), default=jsonable)
 
 
 def plain(data: Any) -> Any:

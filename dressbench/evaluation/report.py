@@ -7,7 +7,7 @@ from typing import Any
 
 import pandas as pd
 
-from .io import slug, write_csv, write_json, write_png, write_text
+from ..files import slug, write_csv, write_json, write_png, write_text
 from .plots import curves_figure, scores_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import CONFIDENCE, RESAMPLES

@@ -13,9 +13,9 @@ import pandas as pd
 from tqdm.auto import tqdm
 
 from ..checks import check_episodes, check_folder, check_processes, check_seed
+from ..files import write_csv
+from ..provenance import git_commit, versions
 from .cells import Cell, checked_pair, leaderboard_cells, make_cell
-from .io import write_csv
-from .meta import git_commit, versions
 from .report import success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS

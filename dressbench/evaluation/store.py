@@ -19,9 +19,9 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from ..files import slug, write_text
 from .cells import Cell
 from .identity import difference, same
-from .io import slug, write_text
 from .rollouts import EpisodeRecord
 from .workers import Task
 

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .io import slug, write_text
+from ..files import slug, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .workers import exit_with_parent

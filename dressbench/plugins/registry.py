@@ -127,7 +127,7 @@ def policy_folders() -> list[Path]:
 
 def _policy_file_entries(group: str) -> list[_Entry]:
     """Trained models (``NAME.safetensors`` + ``NAME.json``) as human plugins named NAME."""
-    from ..training.policy_file import list_policies, load_policy
+    from ..policy_file import list_policies, load_policy
 
     entries = []
     for folder in policy_folders():

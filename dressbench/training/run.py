@@ -1,4 +1,11 @@
-"""One training run on disk: build or resume the learner, checkpoint it, export the policy."""
+"""Training a human model for a robot strategy with stable-baselines3 (TRPO by default).
+
+A run lives in ``out/NAME/``: atomic checkpoints (the SB3 model and the observation
+normalisation, local training state), TensorBoard and CSV logs, and ``run.json`` with the
+configuration, seeds and result. Re-running the same call resumes from the last checkpoint. The
+finished model is exported to ``policies/NAME.{safetensors,json}``: plain weights that load
+without unpickling anything.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +13,7 @@ import json
 import os
 import shutil
 from collections import deque
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -17,12 +24,21 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
 from tqdm import tqdm
 
-from ..evaluation.io import write_csv
+from ..files import write_csv, write_json
+from ..provenance import git_commit, versions
 from ..scene.world import actuated_scene
+from .config import TrainConfig
 from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
-from .train import CHECKPOINT, TrainConfig, git_commit, versions, write_json_atomic
 from .wrappers import ScaledHaptics
+
+CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
+
+
+def train(config: TrainConfig | None = None, *, progress: bool = True, **options) -> Path:
+    """Train (or resume) a human model and export it; returns the policy's JSON path."""
+    config = replace(config or TrainConfig(), **options)
+    return TrainingRun(config).run(progress=progress)
 
 
 class TrainingRun:
@@ -63,7 +79,7 @@ class TrainingRun:
 
     def _run(self, progress: bool) -> Path:
         run_json = {"config": asdict(self.config), "versions": versions()}
-        write_json_atomic(self.folder / "run.json", run_json)
+        write_json(self.folder / "run.json", run_json)
         venv = self._envs()
         try:
             model, done = self._model(venv)
@@ -80,7 +96,7 @@ class TrainingRun:
                 self.save_checkpoint(model)
             steps = int(model.num_timesteps)
             run_json["result"] = self._summarize(steps)
-            write_json_atomic(self.folder / "run.json", run_json)
+            write_json(self.folder / "run.json", run_json)
             return self.export(model)
         finally:
             venv.close()
@@ -146,7 +162,7 @@ class TrainingRun:
         state = {"timesteps": int(model.num_timesteps), "seed": self.config.seed}
         if self.curriculum is not None:
             state["curriculum_reach"] = self.curriculum.reach
-        write_json_atomic(self.state_path, state)
+        write_json(self.state_path, state)
 
     def _summarize(self, steps: int) -> dict[str, float]:
         """Write the learning summary (if an update has been logged) and return the run's steps,
@@ -163,7 +179,7 @@ class TrainingRun:
 
     def export(self, model) -> Path:
         """The finished policy as safetensors + JSON in the policies folder."""
-        from .policy_file import save_policy
+        from .export import save_policy
 
         cfg = self.config
         Path(cfg.policies).mkdir(parents=True, exist_ok=True)

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ..evaluation.io import write_csv, write_png
+from ..files import write_csv, write_png
 
 STEPS = "time/total_timesteps"
 PANELS = (  # column of progress.csv, title, axis label

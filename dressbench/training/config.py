@@ -1,22 +1,9 @@
-"""Training a human model for a robot strategy with stable-baselines3 (TRPO by default).
-
-A run lives in ``out/NAME/``: atomic checkpoints (the SB3 model and the observation
-normalisation, local training state), TensorBoard and CSV logs, and ``run.json`` with the
-configuration and seeds. Re-running the same call resumes from the last checkpoint. The finished
-model is exported to ``policies/NAME.{safetensors,json}``: plain weights that load without
-unpickling anything.
-"""
+"""What a training run is: ``TrainConfig``, its checks, and the named recipes."""
 
 from __future__ import annotations
 
-import json
 import os
-import platform
-import subprocess
 from dataclasses import dataclass
-from pathlib import Path
-
-import numpy as np
 
 from ..checks import (
     check_folder,
@@ -31,9 +18,6 @@ from ..observation import check_haptic_scale
 from .curriculum import CurriculumConfig
 
 ALGORITHMS = ("trpo", "ppo")
-CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
-
-
 RECIPES = ("default", "paper")
 
 
@@ -122,56 +106,3 @@ class TrainConfig:
     @property
     def n_envs(self) -> int:
         return self.envs or os.cpu_count() or 1
-
-
-def train(config: TrainConfig | None = None, *, progress: bool = True, **options) -> Path:
-    """Train (or resume) a human model and export it; returns the policy's JSON path."""
-    from dataclasses import replace
-
-    from .run import TrainingRun
-
-    config = replace(config or TrainConfig(), **options)
-    return TrainingRun(config).run(progress=progress)
-
-
-def versions() -> dict[str, str]:
-    """Versions of everything a trained model depends on, for its metadata."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    found = {"python": platform.python_version()}
-    for package in ("dressbench", "numpy", "torch", "stable-baselines3", "sb3-contrib",
-                    "gymnasium", "warp-lang", "dartpy"):  # fmt: skip
-        try:
-            found[package] = version(package)
-        except PackageNotFoundError:
-            found[package] = "missing"
-    return found
-
-
-def git_commit() -> str:
-    """The checkout's commit (with "-dirty" if it has changes), or "unknown"."""
-    root = Path(__file__).resolve().parents[2]
-    try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, check=True
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
-            cwd=root, capture_output=True, text=True, check=True,
-        ).stdout.strip()  # fmt: skip
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return commit + ("-dirty" if dirty else "")
-
-
-def write_json_atomic(path: Path, data: dict) -> None:
-    """Write JSON through a temporary file and a rename, so it is never half-written."""
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2, default=_plain))
-    os.replace(tmp, path)
-
-
-def _plain(value):
-    if isinstance(value, np.generic):
-        return value.item()
-    raise TypeError(f"not JSON serialisable: {value!r}")

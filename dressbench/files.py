@@ -64,7 +64,7 @@ def write_csv(path: str | os.PathLike, table: pd.DataFrame) -> None:
 
 def write_json(path: str | os.PathLike, data: Any) -> None:
     """Replace ``path`` by ``data`` as indented JSON atomically (dataclasses as dicts)."""
-    write_text(path, json.dumps(data, indent=2, default=_jsonable) + "\n")
+    write_text(path, json.dumps(data, indent=2, default=jsonable) + "\n")
 
 
 def write_png(path: str | os.PathLike, figure: Figure) -> None:
@@ -74,7 +74,7 @@ def write_png(path: str | os.PathLike, figure: Figure) -> None:
     write_bytes(path, buffer.getvalue())
 
 
-def _jsonable(value: Any) -> Any:
+def jsonable(value: Any) -> Any:
     """What JSON cannot encode natively: dataclasses as dicts, anything else by ``repr``."""
     if is_dataclass(value) and not isinstance(value, type):
         return asdict(value)

@@ -26,13 +26,11 @@ import numpy as np
 import safetensors.numpy
 from safetensors import SafetensorError
 
-from ..observation import HAPTIC_SCALES, check_haptic_scale, scale_haptics
-from ..plugins.protocols import HUMAN_ACTION_SIZE
+from .observation import HAPTIC_SCALES, scale_haptics
+from .plugins.protocols import HUMAN_ACTION_SIZE
 
 if TYPE_CHECKING:
-    from stable_baselines3.common.on_policy_algorithm import OnPolicyAlgorithm
-    from stable_baselines3.common.policies import ActorCriticPolicy
-    from stable_baselines3.common.running_mean_std import RunningMeanStd
+    pass
 
 FORMAT = "dressbench-policy"
 FORMAT_VERSION = 1
@@ -125,149 +123,6 @@ def policy_paths(path: str | os.PathLike[str]) -> tuple[Path, Path]:
 # --- saving -------------------------------------------------------------------------------------
 
 
-def save_policy(
-    path_stem: str | os.PathLike[str],
-    model: OnPolicyAlgorithm,
-    obs_rms: RunningMeanStd,
-    metadata: dict[str, Any],
-    *,
-    clip_obs: float = 10.0,
-    epsilon: float = 1e-8,
-) -> tuple[Path, Path]:
-    """Export what acting needs from a trained SB3 PPO/TRPO ``MlpPolicy`` as a policy file pair.
-
-    ``obs_rms``, ``clip_obs`` and ``epsilon`` are those of the ``VecNormalize`` the model was
-    trained in (the defaults are VecNormalize's). ``metadata`` must name ``robot`` (str or None)
-    and ``ablation``; all of it is stored in the JSON. Each file is replaced atomically, tensors
-    first, so an interrupted save leaves a pair whose checksum does not match.
-    """
-    tensors_path, json_path = policy_paths(path_stem)
-    tensors, architecture = _export_actor(model.policy)
-    tensors |= _export_normalization(obs_rms, architecture["obs_dim"], clip_obs, epsilon)
-    _check_metadata(metadata)
-    blob = safetensors.numpy.save(tensors)
-    if len(blob) > MAX_TENSORS_BYTES:
-        limit = MAX_TENSORS_BYTES // 2**20
-        raise ValueError(f"cannot export: {len(blob)} bytes of tensors, more than {limit} MiB")
-    document = {
-        "format": FORMAT,
-        "format_version": FORMAT_VERSION,
-        "architecture": architecture,
-        "obs_normalization": {"clip_obs": float(clip_obs), "epsilon": float(epsilon)},
-        "tensors": {"sha256": hashlib.sha256(blob).hexdigest(), "size": len(blob)},
-        **metadata,
-    }
-    text = _to_json(document)
-    json_path.parent.mkdir(parents=True, exist_ok=True)
-    _write_atomic(tensors_path, blob)
-    _write_atomic(json_path, text.encode("utf-8"))
-    return tensors_path, json_path
-
-
-def _export_actor(policy: ActorCriticPolicy) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
-    """The actor's tensors and architecture, after checking the policy is one we can rebuild."""
-    from gymnasium import spaces
-    from stable_baselines3.common.distributions import DiagGaussianDistribution
-    from stable_baselines3.common.policies import ActorCriticPolicy
-    from stable_baselines3.common.torch_layers import FlattenExtractor
-    from torch import nn
-
-    if not isinstance(policy, ActorCriticPolicy):
-        raise ValueError(f"cannot export {type(policy).__name__}: expected PPO/TRPO's MlpPolicy")
-    if not isinstance(policy.action_dist, DiagGaussianDistribution):
-        raise ValueError("cannot export: the policy must be a diagonal Gaussian (no gSDE)")
-    obs_space, act_space = policy.observation_space, policy.action_space
-    if not isinstance(obs_space, spaces.Box) or len(obs_space.shape) != 1:
-        raise ValueError(f"cannot export: observations must be a 1-D Box, got {obs_space}")
-    if not isinstance(policy.pi_features_extractor, FlattenExtractor):
-        raise ValueError("cannot export: the features extractor must be the default Flatten")
-    if not (
-        isinstance(act_space, spaces.Box)
-        and act_space.shape == (ACTION_SIZE,)
-        and np.all(act_space.low == -1.0)
-        and np.all(act_space.high == 1.0)
-    ):
-        raise ValueError(f"cannot export: actions must be Box(-1, 1, ({ACTION_SIZE},))")
-    modules = list(policy.mlp_extractor.policy_net)
-    if not (
-        all(isinstance(m, nn.Linear) for m in modules[0::2])
-        and all(isinstance(m, nn.Tanh) for m in modules[1::2])
-        and len(modules) % 2 == 0
-    ):
-        raise ValueError("cannot export: the actor must be Linear layers each followed by Tanh")
-    linears = [*modules[0::2], policy.action_net]
-    tensors = {}
-    for name, layer in zip(_layer_names(len(linears) - 1), linears, strict=True):
-        tensors[f"{name}.weight"] = _numpy(layer.weight)
-        tensors[f"{name}.bias"] = _numpy(layer.bias)
-    tensors["log_std"] = _numpy(policy.log_std)
-    architecture = {
-        "hidden_sizes": [layer.out_features for layer in modules[0::2]],
-        "activation": ACTIVATION,
-        "obs_dim": obs_space.shape[0],
-        "act_dim": ACTION_SIZE,
-    }
-    return tensors, architecture
-
-
-def _numpy(tensor: Any) -> np.ndarray:
-    """A torch tensor as a contiguous NumPy array, as safetensors wants it."""
-    return np.ascontiguousarray(tensor.detach().cpu().numpy())
-
-
-def _export_normalization(
-    obs_rms: RunningMeanStd, obs_dim: int, clip_obs: float, epsilon: float
-) -> dict[str, np.ndarray]:
-    """VecNormalize's running mean and variance of the observation, checked against the policy."""
-    mean = np.ascontiguousarray(obs_rms.mean, dtype=np.float64)
-    var = np.ascontiguousarray(obs_rms.var, dtype=np.float64)
-    if mean.shape != (obs_dim,) or var.shape != (obs_dim,):
-        raise ValueError(
-            f"obs_rms has shapes {mean.shape} and {var.shape}, the policy observes ({obs_dim},)"
-        )
-    if not (_is_number(clip_obs) and clip_obs > 0 and _is_number(epsilon) and epsilon >= 0):
-        raise ValueError(f"need clip_obs > 0 and epsilon >= 0, got {clip_obs!r} and {epsilon!r}")
-    return {"obs_mean": mean, "obs_var": var}
-
-
-def _check_metadata(metadata: dict[str, Any]) -> None:
-    """Refuse metadata that would clash with the format or leave the protocol's fields unset."""
-    clashes = [key for key in RESERVED_KEYS if key in metadata]
-    if clashes:
-        raise ValueError(f"metadata may not use the format's keys: {', '.join(clashes)}")
-    if not isinstance(metadata.get("ablation"), str):
-        raise ValueError("metadata must name the 'ablation' (a string)")
-    if "robot" not in metadata or not isinstance(metadata["robot"], (str, type(None))):
-        raise ValueError("metadata must name the 'robot' (a string, or None for any robot)")
-    check_haptic_scale(metadata.get("haptics", "newtons"))
-
-
-def _to_json(document: dict[str, Any]) -> str:
-    """Strict JSON text (no NaN), or a ValueError saying which metadata cannot be written."""
-    try:
-        return json.dumps(document, indent=2, allow_nan=False) + "\n"
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"metadata cannot be written as JSON: {exc}") from None
-
-
-def _write_atomic(path: Path, data: bytes) -> None:
-    """Write a temp file beside ``path`` and rename it over ``path``: readers never see half."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{os.urandom(4).hex()}.tmp")
-    try:
-        # os.open, not mkstemp: the file gets the umask's permissions, not 0600
-        with open(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), "wb") as file:
-            file.write(data)
-            file.flush()
-            os.fsync(file.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-
-
-# --- loading ------------------------------------------------------------------------------------
-
-
 def load_policy(path: str | os.PathLike[str]) -> TrainedPolicy:
     """The policy of a file pair, given its ``.json``, its ``.safetensors`` or its stem.
 
@@ -281,7 +136,7 @@ def load_policy(path: str | os.PathLike[str]) -> TrainedPolicy:
     _check_tensors(tensors, _expected_shapes(architecture), tensors_path, json_path)
     layers = [
         (tensors[f"{name}.weight"].astype(np.float64), tensors[f"{name}.bias"].astype(np.float64))
-        for name in _layer_names(len(architecture["hidden_sizes"]))
+        for name in layer_names(len(architecture["hidden_sizes"]))
     ]
     metadata = {key: value for key, value in document.items() if key not in RESERVED_KEYS}
     normalization = document["obs_normalization"]
@@ -430,7 +285,7 @@ def _expected_shapes(architecture: dict[str, Any]) -> dict[str, tuple[int, ...]]
     obs_dim, act_dim = architecture["obs_dim"], architecture["act_dim"]
     sizes = [obs_dim, *architecture["hidden_sizes"], act_dim]
     shapes: dict[str, tuple[int, ...]] = {}
-    for name, (n_in, n_out) in zip(_layer_names(len(sizes) - 2), pairwise(sizes), strict=True):
+    for name, (n_in, n_out) in zip(layer_names(len(sizes) - 2), pairwise(sizes), strict=True):
         shapes[f"{name}.weight"] = (n_out, n_in)
         shapes[f"{name}.bias"] = (n_out,)
     shapes |= {"log_std": (act_dim,), "obs_mean": (obs_dim,), "obs_var": (obs_dim,)}
@@ -467,12 +322,12 @@ def _check_tensors(
         raise _fail(tensors_path, "tensor obs_var has negative variances")
 
 
-def _layer_names(n_hidden: int) -> list[str]:
+def layer_names(n_hidden: int) -> list[str]:
     """The tensor-name prefixes of the actor's layers: ``pi.0`` ... then ``action``."""
     return [f"pi.{i}" for i in range(n_hidden)] + ["action"]
 
 
-def _is_number(value: object) -> bool:
+def is_number(value: object) -> bool:
     """A finite JSON number (not a bool)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
@@ -498,8 +353,8 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("architecture", "activation"), lambda v: v == ACTIVATION, repr(ACTIVATION)),
     (("architecture", "obs_dim"), _is_positive_int, "an integer > 0"),
     (("architecture", "act_dim"), lambda v: v == ACTION_SIZE, str(ACTION_SIZE)),
-    (("obs_normalization", "clip_obs"), lambda v: _is_number(v) and v > 0, "a number > 0"),
-    (("obs_normalization", "epsilon"), lambda v: _is_number(v) and v >= 0, "a number >= 0"),
+    (("obs_normalization", "clip_obs"), lambda v: is_number(v) and v > 0, "a number > 0"),
+    (("obs_normalization", "epsilon"), lambda v: is_number(v) and v >= 0, "a number >= 0"),
     (("tensors", "sha256"), _is_sha256, "64 hex digits"),
     (("tensors", "size"), _is_positive_int, "an integer > 0"),
     (("ablation",), lambda v: isinstance(v, str), "a string"),
