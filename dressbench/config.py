@@ -6,7 +6,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from .checks import check_gown_vertices, check_horizon
 from .observation import check_ablation
-from .plugins.protocols import ROBOT_DT
+from .scene.clock import POLICY_DT
 from .scene.world import SceneConfig
 
 
@@ -40,9 +40,9 @@ class EnvConfig:
     def __post_init__(self) -> None:
         check_ablation(self.ablation)
         step = self.scene.dt * self.scene.frame_skip
-        if abs(step - ROBOT_DT) > 1e-9:
+        if abs(step - POLICY_DT) > 1e-9:
             raise ValueError(
-                f"the policy step is {ROBOT_DT} s, which robot strategies and humans act on: "
+                f"the policy step is {POLICY_DT} s, which robot strategies and humans act on: "
                 f"dt x frame_skip = {self.scene.dt} x {self.scene.frame_skip} = {step:.4g} s"
             )
         check_horizon(self.horizon)

@@ -45,6 +45,7 @@ class DressingEnv(ParallelEnv):
         render_mode: str | None = None,
         *,
         robot_name: str | None = None,
+        robot_origin: str | None = None,
     ) -> None:
         if not all(callable(getattr(robot, method, None)) for method in ("reset", "act")):
             raise TypeError(
@@ -56,6 +57,7 @@ class DressingEnv(ParallelEnv):
         self.config = config or EnvConfig()
         self.robot_strategy = robot
         self.robot_name = robot_name  # the plugin name it was loaded as, if any: for messages
+        self.robot_origin = robot_origin  # and the package that provides it
         self.render_mode = render_mode
         self.possible_agents = [ROBOT, HUMAN]
         self.agents: list[str] = []
@@ -86,7 +88,8 @@ class DressingEnv(ParallelEnv):
         pose = self.robot_strategy.reset(self._rng)
         problem = start_pose_problem(pose)
         if problem:  # e.g. a zero quaternion would give NaN observations, scored as a failure
-            raise ValueError(f"{describe_robot(self.robot_strategy, self.robot_name)}: {problem}")
+            robot = describe_robot(self.robot_strategy, self.robot_name, self.robot_origin)
+            raise ValueError(f"{robot}: {problem}")
         pose = np.asarray(pose, dtype=float)
         self.scene.reset(pose)
         human_start = (options or {}).get("human_start")
@@ -274,14 +277,12 @@ def robot_action_problem(action: Any) -> str | None:
     return None
 
 
-def describe_robot(robot: Any, name: str | None = None) -> str:
-    """A robot strategy in a message: ``"robot strategy 'NAME' from PACKAGE VERSION"`` for a
-    plugin loaded by name, else its class and the distribution that provides its module."""
+def describe_robot(robot: Any, name: str | None = None, origin: str | None = None) -> str:
+    """A robot strategy in a message: ``"robot strategy 'NAME' from ORIGIN"`` for a plugin
+    loaded by name (``origin``: its package and version), else its class and the distribution
+    that provides its module."""
     if name is not None:
-        from .plugins import robot_plugins
-
-        plugin = robot_plugins().get(name)
-        return f"robot strategy {name!r}" + (f" from {plugin.origin}" if plugin else "")
+        return f"robot strategy {name!r}" + (f" from {origin}" if origin else "")
     import importlib.metadata
 
     cls = type(robot)

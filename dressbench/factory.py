@@ -26,10 +26,9 @@ def make_env(
     from .config import EnvConfig
     from .env import DressingEnv
 
-    name = robot if isinstance(robot, str) else None
-    return DressingEnv(
-        _robot(robot), EnvConfig.build(config, **options), render_mode, robot_name=name
-    )
+    name, origin = (robot, robot_origin(robot)) if isinstance(robot, str) else (None, None)
+    return DressingEnv(_robot(robot), EnvConfig.build(config, **options), render_mode,
+                       robot_name=name, robot_origin=origin)  # fmt: skip
 
 
 def parallel_env(
@@ -54,6 +53,14 @@ def make_human_env(
     from .single_agent import HumanEnv
 
     return HumanEnv(make_env(robot, render_mode=render_mode, config=config, **options))
+
+
+def robot_origin(name: str) -> str | None:
+    """The package (and version) that provides the robot plugin ``name``, for messages."""
+    from .plugins import robot_plugins
+
+    plugin = robot_plugins().get(name)
+    return plugin.origin if plugin else None
 
 
 def _robot(robot: str | Any) -> Any:

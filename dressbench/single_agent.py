@@ -33,7 +33,8 @@ class HumanEnv(gym.Env):
         robot_action = strategy.act(self._robot_obs)
         problem = robot_action_problem(robot_action)
         if problem:
-            raise ValueError(f"{describe_robot(strategy, self.env.robot_name)}: {problem}")
+            robot = describe_robot(strategy, self.env.robot_name, self.env.robot_origin)
+            raise ValueError(f"{robot}: {problem}")
         robot_action = np.asarray(robot_action, dtype=float)
         observations, rewards, terminations, truncations, infos = self.env.step(
             {HUMAN: action, ROBOT: robot_action}

@@ -195,7 +195,7 @@ def plugin_problems(
     ablation (``preflight.human_problem``). Returns the robots and humans that pass, and a
     ``(noun, name, why)`` for each that does not.
     """
-    from .preflight import Observations, human_metadata_problem, human_problem, robot_problem
+    from ..preflight import Observations, human_metadata_problem, human_problem, robot_problem
 
     problems: list[tuple[str, str, str]] = []
     good_robots = []

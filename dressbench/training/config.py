@@ -74,8 +74,8 @@ class TrainConfig:
         the env options are valid, and ``out`` and ``policies`` are folders that exist or can
         be created (else a ``ValueError``)."""
         from ..config import EnvConfig  # here: importing it loads the physics
-        from ..evaluation.preflight import robot_problem
         from ..plugins import load_robot, robot_plugins
+        from ..preflight import robot_problem
 
         load_robot(self.robot)
         EnvConfig(ablation=self.ablation, gown_vertices=self.gown_vertices, horizon=self.horizon)

@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from ..plugins import load_robot
-from ..plugins.protocols import HUMAN_ACTION_SIZE
-from ..plugins.registry import _one_line
+from .plugins import load_robot
+from .plugins.protocols import HUMAN_ACTION_SIZE
+from .plugins.registry import _one_line
 
 CHECK_VERTICES = 300  # the gown of the check's env: coarse, the check is about interfaces
 CHECK_HORIZON = 2
@@ -27,8 +27,9 @@ def robot_problem(name: str) -> str | None:
     """Why the robot strategy ``name`` cannot be evaluated, or None: a fresh instance's start
     pose for seed 0 (``start_pose_problem``), then one ``act`` on the robot observation of a
     real env, and one env step with that action."""
-    from ..config import EnvConfig  # here: it loads the physics
-    from ..env import HUMAN, ROBOT, DressingEnv, robot_action_problem, start_pose_problem
+    from .config import EnvConfig  # here: it loads the physics
+    from .env import HUMAN, ROBOT, DressingEnv, robot_action_problem, start_pose_problem
+    from .factory import robot_origin
 
     try:
         robot = load_robot(name)
@@ -36,7 +37,7 @@ def robot_problem(name: str) -> str | None:
         if problem:
             return problem
         config = EnvConfig(gown_vertices=CHECK_VERTICES, horizon=CHECK_HORIZON)
-        env = DressingEnv(robot, config, robot_name=name)
+        env = DressingEnv(robot, config, robot_name=name, robot_origin=robot_origin(name))
         observations, _ = env.reset(seed=CHECK_SEED)
         action = robot.act(observations[ROBOT])
         problem = robot_action_problem(action)
@@ -52,7 +53,7 @@ def human_metadata_problem(policy: Any) -> str | None:
     """Why a human policy's declared metadata cannot be right, or None: ``ablation`` one of
     ABLATIONS, ``robot`` None or a name, and ``obs_dim`` (when it has one, as a trained policy
     does) the length of that ablation's observation."""
-    from ..observation import ABLATIONS, observation_size
+    from .observation import ABLATIONS, observation_size
 
     ablation = getattr(policy, "ablation", None)
     if not isinstance(ablation, str) or ablation not in ABLATIONS:
@@ -102,7 +103,7 @@ class Observations:
 
     def __call__(self, ablation: str) -> np.ndarray:
         if ablation not in self._cache:
-            from ..factory import make_human_env
+            from .factory import make_human_env
 
             env = make_human_env(
                 self.robot, ablation=ablation, gown_vertices=CHECK_VERTICES, horizon=CHECK_HORIZON
