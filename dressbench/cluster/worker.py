@@ -48,15 +48,16 @@ class PolicyFolders:
 
 def require_plugins(robots: Iterable[str] = (), humans: Iterable[str] = ()) -> None:
     """A ClusterError naming the first of these plugins that is missing or broken on this node."""
-    from ..plugins import human_plugins, robot_plugins
+    from ..plugins import human_plugins, refresh, robot_plugins
 
     for noun, names, plugins in (
         ("robot", robots, robot_plugins),
         ("human", humans, human_plugins),
     ):
-        found = plugins()
         for name in names:
-            plugin = found.get(name)
+            if name not in plugins():
+                refresh()  # installed, or a policy file written, since this worker last looked
+            plugin = plugins().get(name)
             if plugin is None:
                 raise ClusterError(
                     f"{noun} plugin {name!r} is not installed on Ray node {node()}: "

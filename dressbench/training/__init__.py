@@ -9,6 +9,7 @@ from __future__ import annotations
 from ..policy_file import PolicyFileError, TrainedPolicy, list_policies, load_policy, policy_paths
 from .config import TrainConfig
 from .export import save_policy
+from .sweep import Sweep, sweep
 
 __all__ = [
     "PolicyFileError",
@@ -17,6 +18,8 @@ __all__ = [
     "load_policy",
     "policy_paths",
     "save_policy",
+    "Sweep",
+    "sweep",
     "TrainConfig",
     "train",
 ]
