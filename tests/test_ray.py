@@ -150,6 +150,25 @@ def test_a_sweep_on_ray_trains_its_grid_and_scores_it_in_one_leaderboard(
     assert len(pd.read_csv(tmp_path / "results" / "episodes.csv")) == 4
 
 
+def test_a_sweeps_grid_is_every_combination_each_named_as_train_names_it(tmp_path):
+    grid = {"robot": ["fixed", "front_linear"], "seed": [0, 1], "gamma": [0.99]}
+    runs = Sweep(grid, {"timesteps": 64, "out": str(tmp_path)}).runs()
+    assert [run.run_name for run in runs] == [
+        f"{robot}-complete-trpo-s{seed}-gamma0.99"
+        for robot in ("fixed", "front_linear")
+        for seed in (0, 1)
+    ]
+    assert {(run.timesteps, run.envs, run.out) for run in runs} == {(64, 1, str(tmp_path))}
+    for bad, message in [
+        ({"grid": {"colour": ["red"]}}, "not TrainConfig fields: colour"),
+        ({"grid": {"seed": []}}, "grid axis seed has no values"),
+        ({"grid": {"horizon": [8, 16]}}, "horizon is the leaderboard's env too"),
+        ({"train": {"name": "mine"}}, "a sweep names its runs itself"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            Sweep(**bad)
+
+
 def test_a_sweep_on_the_local_backend_trains_one_run_after_another_and_resumes(
     tmp_path, policies_here
 ):

@@ -16,6 +16,7 @@ from types import ModuleType
 from .backend import ClusterError, first_line
 
 REACH_TIMEOUT = 5.0  # s to open a TCP connection to a cluster's address before giving up
+AUTH_MODE = "RAY_AUTH_MODE"  # Ray's switch of token authentication ("token", "disabled")
 
 
 def import_ray() -> ModuleType:
@@ -45,16 +46,27 @@ def ray_session(address: str | None, cpus: int | None = None) -> Iterator[Module
         return
     if address is not None and address != "auto":
         _check_reachable(address)
-    options = {"num_cpus": cpus or os.cpu_count() or 1} if address is None else {}
+    local = {"num_cpus": cpus or os.cpu_count() or 1, "include_dashboard": False}
     try:
-        ray.init(address=address, include_dashboard=False, logging_level=logging.WARNING,
-                 **options)  # fmt: skip
+        ray.init(
+            address=address, logging_level=logging.WARNING, **(local if address is None else {})
+        )
     except (ConnectionError, RuntimeError, ValueError) as error:
-        raise ClusterError(f"cannot connect to Ray at {address}: {first_line(error)}") from None
+        raise ClusterError(
+            f"cannot connect to Ray at {address}: {first_line(error)}{_auth_hint(address)}"
+        ) from None
     try:
         yield ray
     finally:
         ray.shutdown()
+
+
+def _auth_hint(address: str | None) -> str:
+    """What to try when joining by address failed and Ray's token authentication is not on
+    here: Ray turns it on by itself only for a cluster it finds (auto), never for an address."""
+    if address in (None, "auto") or AUTH_MODE in os.environ:
+        return ""
+    return f" (if the cluster uses token authentication, set {AUTH_MODE}=token and its token here)"
 
 
 def _check_reachable(address: str) -> None:
