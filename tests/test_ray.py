@@ -104,7 +104,7 @@ def _rollout_processes() -> list[int]:
 
 @pytest.mark.skipif(not Path("/proc/self/cmdline").exists(), reason="reads /proc")
 def test_killing_a_worker_mid_evaluation_still_runs_every_episode_once(cluster, tmp_path):
-    run = {"robot": "fixed", "human": "random", "episodes": 8, "horizon": 40,
+    run = {"robot": "fixed", "human": "random", "episodes": 10, "horizon": 40,
            "gown_vertices": 600, "progress": False}  # fmt: skip
     out = tmp_path / "ray"
     killed: list[int] = []
@@ -124,8 +124,8 @@ def test_killing_a_worker_mid_evaluation_still_runs_every_episode_once(cluster, 
     killer.join()
 
     assert killed, "no worker was caught running a rollout"
-    assert list(table["episode"]) == list(range(8))  # each once, none lost
-    assert len(list(out.glob("rollouts/*/*.json"))) == 8
+    assert list(table["episode"]) == list(range(10))  # each once, none lost
+    assert len(list(out.glob("rollouts/*/*.json"))) == 10
     evaluate(workers=1, out=tmp_path / "local", **run)
     assert _files(out) == _files(tmp_path / "local")
 
