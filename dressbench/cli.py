@@ -300,9 +300,9 @@ def sweep(robots, ablations, seeds, algos, curriculum, episodes, results, worker
     in one leaderboard. Each run is a normal run folder: re-running resumes."""
     from pathlib import Path
 
+    from .sweep import Sweep
+    from .sweep import sweep as run_sweep
     from .training.curriculum import CurriculumConfig
-    from .training.sweep import Sweep
-    from .training.sweep import sweep as run_sweep
 
     if backend == "local":
         _require_train_extra()  # on the ray backend, the workers train

@@ -24,7 +24,7 @@ from dressbench import plugins
 from dressbench.cli import main
 from dressbench.cluster import ClusterError
 from dressbench.evaluation import evaluate, leaderboard
-from dressbench.training import Sweep, sweep
+from dressbench.sweep import Sweep, sweep
 
 TINY = {"horizon": 10, "gown_vertices": 600, "progress": False}
 TRAIN_TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}

@@ -9,7 +9,6 @@ from __future__ import annotations
 from ..policy_file import PolicyFileError, TrainedPolicy, list_policies, load_policy, policy_paths
 from .config import TrainConfig
 from .export import save_policy
-from .sweep import Sweep, sweep
 
 __all__ = [
     "PolicyFileError",
@@ -18,8 +17,6 @@ __all__ = [
     "load_policy",
     "policy_paths",
     "save_policy",
-    "Sweep",
-    "sweep",
     "TrainConfig",
     "train",
 ]

@@ -1,6 +1,8 @@
 """A sweep: a grid of training runs, each a normal run folder, then one leaderboard of their
 policies. ``backend`` "local" trains them one after another in this process; "ray" trains them
 as Ray tasks, as many at once as the cluster has CPUs for (docs/cluster.md).
+
+It uses both training and evaluation, so it sits above them (docs/architecture.md).
 """
 
 from __future__ import annotations
@@ -13,9 +15,9 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..checks import check_episodes, check_folder, check_seed
-from ..cluster import Backend, ClusterError
-from .config import TrainConfig
+from .checks import check_episodes, check_folder, check_seed
+from .cluster import Backend, ClusterError
+from .training.config import TrainConfig
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -94,8 +96,8 @@ def sweep(
     looks for trained humans (``./policies`` or a folder of ``DRESSBENCH_POLICIES``), so that
     the leaderboard, and every worker, finds them by name.
     """
-    from ..evaluation import leaderboard
-    from ..plugins import refresh
+    from .evaluation import leaderboard
+    from .plugins import refresh
 
     where = Backend(backend, address)
     runs = config.runs()
@@ -119,7 +121,7 @@ def sweep(
 
 def _connected(where: Backend) -> AbstractContextManager[Any]:
     """A Ray session for the ray backend; nothing for the local one."""
-    from ..cluster.session import ray_session
+    from .cluster.session import ray_session
 
     return ray_session(where.address) if where.is_ray else nullcontext()
 
@@ -127,7 +129,7 @@ def _connected(where: Backend) -> AbstractContextManager[Any]:
 def _check_runs(runs: Sequence[TrainConfig]) -> None:
     """Before any training: distinct names, each robot checked once (``TrainConfig.check``),
     and a policies folder the registry looks in."""
-    from ..plugins.registry import policy_folders
+    from .plugins.registry import policy_folders
 
     names = [run.run_name for run in runs]
     if len(set(names)) < len(names):
@@ -147,14 +149,14 @@ def _train(runs: Sequence[TrainConfig], where: Backend, progress: bool) -> Itera
     """Each run's policy JSON as it finishes: one after another here, or as Ray tasks (Ray
     connected)."""
     if not where.is_ray:
-        from .run import train  # here: it loads torch and stable-baselines3
+        from .training.run import train  # here: it loads torch and stable-baselines3
 
         for run in runs:
             yield train(run, progress=progress)
         return
     from tqdm.auto import tqdm
 
-    from ..cluster.tasks import run_remote
+    from .cluster.tasks import run_remote
 
     cpus = max(run.n_envs for run in runs)  # each run reserves a CPU per env process
     with tqdm(total=len(runs), desc="sweep", unit="run", disable=not progress) as bar:
@@ -169,8 +171,8 @@ def _train(runs: Sequence[TrainConfig], where: Backend, progress: bool) -> Itera
 
 def train_on_node(config: TrainConfig) -> str:
     """One run on a Ray worker: its robot plugin checked on this node, then ``train``."""
-    from ..cluster.worker import require_plugins
-    from .run import train
+    from .cluster.worker import require_plugins
+    from .training.run import train
 
     require_plugins([config.robot])
     return str(train(config, progress=False))
