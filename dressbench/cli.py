@@ -19,13 +19,14 @@ class _Commands(click.Group):
     def invoke(self, ctx: click.Context):
         import warnings
 
+        from .cluster import ClusterError
         from .plugins.registry import PluginError
 
         with warnings.catch_warnings():
             warnings.showwarning = _one_line_warning  # e.g. a skipped plugin: one line each
             try:
                 return super().invoke(ctx)
-            except (PluginError, ValueError) as error:
+            except (ClusterError, PluginError, ValueError) as error:
                 raise click.ClickException(str(error)) from error
 
 
@@ -65,6 +66,19 @@ _FOLDER = _checked("check_folder")
 def _at_least(minimum: int) -> Callable[..., Any]:
     """A callback refusing integers below ``minimum``."""
     return _checked("check_int", minimum=minimum)
+
+
+def _backend_options(command: Callable[..., Any]) -> Callable[..., Any]:
+    """``--backend local|ray`` and ``--address`` (docs/cluster.md)."""
+    from .cluster import BACKENDS
+
+    address = click.option("--address", default=None,
+                           help="Ray cluster to join: auto, HOST:PORT or ray://HOST:PORT "
+                                "(default: start a local Ray instance).")  # fmt: skip
+    backend = click.option("--backend", type=click.Choice(BACKENDS), default="local",
+                           show_default=True,
+                           help="Run the tasks in local processes, or as Ray tasks.")  # fmt: skip
+    return backend(address(command))
 
 
 @click.group(cls=_Commands)
@@ -244,6 +258,65 @@ def _require_train_extra() -> None:
         )
 
 
+@main.command()
+@click.option("--robot", "robots", multiple=True, default=("fixed",), show_default=True,
+              help="Robot strategies to train for (repeatable: a grid axis).")  # fmt: skip
+@click.option("--ablation", "ablations", multiple=True, default=("complete",), show_default=True,
+              type=click.Choice(["complete", "no_haptics", "no_task"]),
+              help="Ablations (repeatable: a grid axis).")  # fmt: skip
+@click.option("--seed", "seeds", multiple=True, type=int, default=(0,), show_default=True,
+              callback=_SEED, help="Training seeds (repeatable: a grid axis).")  # fmt: skip
+@click.option("--algo", "algos", multiple=True, type=click.Choice(["trpo", "ppo"]),
+              help="Algorithms (repeatable: a grid axis; default: the recipe's).")  # fmt: skip
+@click.option("--recipe", type=click.Choice(["default", "paper"]), default="default",
+              show_default=True)  # fmt: skip
+@click.option("--timesteps", default=200_000, show_default=True, callback=_at_least(1),
+              help="Environment steps per run.")  # fmt: skip
+@click.option("--envs", default=1, show_default=True, callback=_WORKERS,
+              help="Env processes per run, each a CPU it reserves (0: one per core).")  # fmt: skip
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
+@click.option("--horizon", default=400, show_default=True, callback=_HORIZON,
+              help="Policy steps per episode.")  # fmt: skip
+@click.option("--samples-per-update", type=click.IntRange(min=1),
+              help="Samples per update (default: the recipe's).")  # fmt: skip
+@click.option("--curriculum/--no-curriculum", default=None,
+              help="Near starts that widen (default: the recipe's).")  # fmt: skip
+@click.option("--haptics", type=click.Choice(["log", "newtons"]), default=None,
+              help="How the policy reads contact forces (default: the recipe's).")  # fmt: skip
+@click.option("--out", default="runs", show_default=True, callback=_FOLDER,
+              help="Folder of training runs.")  # fmt: skip
+@click.option("--policies", default="policies", show_default=True, callback=_FOLDER,
+              help="Where models go (a folder dressbench finds humans in).")  # fmt: skip
+@click.option("--episodes", default=100, show_default=True, callback=_EPISODES,
+              help="Rollouts per trained policy in the leaderboard.")  # fmt: skip
+@click.option("--results", default="results", show_default=True, callback=_FOLDER,
+              help="The leaderboard's folder.")  # fmt: skip
+@click.option("--workers", default=0, callback=_WORKERS,
+              help="Evaluation processes (default: one per core).")  # fmt: skip
+@_backend_options
+def sweep(robots, ablations, seeds, algos, curriculum, episodes, results, workers, backend,
+          address, **options) -> None:  # fmt: skip
+    """Train a grid of human models (robots x ablations x seeds x algorithms), then score them
+    in one leaderboard. Each run is a normal run folder: re-running resumes."""
+    from pathlib import Path
+
+    from .sweep import Sweep
+    from .sweep import sweep as run_sweep
+    from .training.curriculum import CurriculumConfig
+
+    if backend == "local":
+        _require_train_extra()  # on the ray backend, the workers train
+    grid = {"robot": robots, "ablation": ablations, "seed": seeds}
+    if algos:
+        grid["algo"] = algos
+    train = {key: value for key, value in options.items() if value is not None}  # None: recipe's
+    if curriculum is not None:
+        train["curriculum"] = CurriculumConfig() if curriculum else None
+    config = Sweep(grid, train, episodes=episodes, results=results, workers=workers or None)
+    run_sweep(config, backend=backend, address=address)
+    click.echo(f"policies in {train['policies']}, leaderboard in {Path(results, 'leaderboard.md')}")
+
+
 @main.group(invoke_without_command=True)
 @click.option("--robot", help="Robot strategy.")
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
@@ -253,8 +326,11 @@ def _require_train_extra() -> None:
               help="Parallel processes (default: one per core).")  # fmt: skip
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
 @click.option("--out", default="results", show_default=True, callback=_FOLDER)
+@_backend_options
 @click.pass_context
-def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out):
+def evaluate(
+    ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out, backend, address
+):
     """Score a human with a robot strategy over seeded rollouts; see also `leaderboard`."""
     if ctx.invoked_subcommand is not None:
         return
@@ -263,7 +339,7 @@ def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_ver
     from .evaluation import evaluate as run_evaluation
 
     run_evaluation(robot, human, episodes=episodes, seed=seed, workers=workers or None, out=out,
-                   gown_vertices=gown_vertices)  # fmt: skip
+                   gown_vertices=gown_vertices, backend=backend, address=address)  # fmt: skip
     click.echo(f"results in {out} (episodes.csv, curves.csv, leaderboard.md, plots)")
 
 
@@ -279,8 +355,9 @@ def evaluate(ctx: click.Context, robot, human, episodes, seed, workers, gown_ver
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 @click.option("--report", is_flag=True,
               help="Also write OUT/report/index.html (a web page with videos).")  # fmt: skip
+@_backend_options
 def leaderboard_command(
-    episodes, seed, workers, gown_vertices, horizon, out, robots, humans, report
+    episodes, seed, workers, gown_vertices, horizon, out, robots, humans, report, backend, address
 ):
     """Every robot strategy against the humans trained for it and the baselines.
 
@@ -292,7 +369,7 @@ def leaderboard_command(
 
     leaderboard(episodes=episodes, seed=seed, workers=workers or None, out=out,
                 robots=robots or None, humans=humans or None, gown_vertices=gown_vertices,
-                horizon=horizon)  # fmt: skip
+                horizon=horizon, backend=backend, address=address)  # fmt: skip
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
     if report:
         from .evaluation.webpage import write_report

@@ -13,9 +13,11 @@ import pandas as pd
 from tqdm.auto import tqdm
 
 from ..checks import check_episodes, check_folder, check_processes, check_seed
+from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
 from .cells import Cell, checked_pair, leaderboard_cells, make_cell
+from .remote import ray_tasks
 from .report import success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
@@ -34,6 +36,8 @@ def evaluate(
     *,
     success_depth: float = SUCCESS_DEPTH,
     progress: bool = True,
+    backend: str = "local",
+    address: str | None = None,
     **options: Any,
 ) -> pd.DataFrame:
     """Score ``robot`` with ``human`` over seeded episodes; write the results to ``out``.
@@ -43,13 +47,16 @@ def evaluate(
     Episodes already in ``out`` of the same identity (the robot's and human's names, versions
     and, for a trained policy, checksum; the env settings; the seed) are not run again. Both
     plugins are first checked in a small env (``cells.plugin_problems``): a ValueError names
-    the one that fails and why.
+    the one that fails and why. ``backend`` "ray" runs the episodes as Ray tasks, on a local
+    instance or, given an ``address``, a cluster (docs/cluster.md): the same files, the same
+    numbers.
     """
-    _check_run(episodes, seed, workers, out)
+    where = _check_run(episodes, seed, workers, out, backend, address)
     cell = make_cell(robot, human, checked_pair(robot, human), **options)
     episodes_table, _ = _evaluate_cells(
-        [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options
-    )
+        [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options,
+        backend=where,
+    )  # fmt: skip
     return episodes_table
 
 
@@ -63,35 +70,48 @@ def leaderboard(
     *,
     success_depth: float = SUCCESS_DEPTH,
     progress: bool = True,
+    backend: str = "local",
+    address: str | None = None,
     **options: Any,
 ) -> pd.DataFrame:
     """Evaluate every robot strategy against the humans meant for it; write the combined files.
 
     The cells are every ok robot plugin × every ok human plugin trained for it or generic
     (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
-    restrict the names. Returns the leaderboard table (as in leaderboard.csv).
+    restrict the names. Returns the leaderboard table (as in leaderboard.csv). ``backend`` and
+    ``address`` are those of ``evaluate``.
     """
-    _check_run(episodes, seed, workers, out)
+    where = _check_run(episodes, seed, workers, out, backend, address)
     cells = leaderboard_cells(robots, humans, **options)
     if not cells:
         raise ValueError(
             "nothing to evaluate: no usable robot strategy with a usable human meant for it"
         )
     _, board = _evaluate_cells(
-        cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options
-    )
+        cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options,
+        backend=where,
+    )  # fmt: skip
     return board
 
 
-def _check_run(episodes: int, seed: int, workers: int | None, out: str | os.PathLike) -> None:
-    """Refuse, before anything runs, a count out of range or an ``out`` that is no folder:
-    episodes from 1 to ``MAX_EPISODES``, seed from 0 to ``MAX_SEED``, workers None (one per
-    core) or from 1 to ``MAX_PROCESSES``, ``out`` a folder that exists or can be created."""
+def _check_run(
+    episodes: int,
+    seed: int,
+    workers: int | None,
+    out: str | os.PathLike,
+    backend: str,
+    address: str | None,
+) -> Backend:
+    """Refuse, before anything runs, a count out of range, an ``out`` that is no folder or an
+    unknown backend: episodes from 1 to ``MAX_EPISODES``, seed from 0 to ``MAX_SEED``, workers
+    None (one per core) or from 1 to ``MAX_PROCESSES``, ``out`` a folder that exists or can be
+    created, ``backend`` and ``address`` as ``Backend`` takes them. Returns the backend."""
     check_episodes(episodes)
     check_seed(seed)
     if workers is not None:
         check_processes(workers)
     check_folder(out, "out")
+    return Backend(backend, address)
 
 
 def _evaluate_cells(
@@ -104,8 +124,11 @@ def _evaluate_cells(
     progress: bool,
     command: str,
     options: dict[str, Any],
+    *,
+    backend: Backend,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Run what is missing of ``episodes`` per cell, saving each as it finishes; then summarize.
+    """Run what is missing of ``episodes`` per cell on ``backend``, saving each as it finishes;
+    then summarize.
 
     Returns the episodes table and the leaderboard table.
     """
@@ -118,11 +141,15 @@ def _evaluate_cells(
     pending = [task for task in tasks if task not in done]
     found = {task.cell for task in done}
     report_earlier_rollouts(out, [cell for cell in cells if cell not in found])
-    workers = workers or os.cpu_count() or 1
+    if backend.is_ray:  # None: as many at once as the cluster has CPUs for
+        results = ray_tasks(pending, workers, backend.address)
+    else:
+        workers = workers or os.cpu_count() or 1
+        results = run_tasks(pending, workers)
     with tqdm(
         total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
     ) as bar:
-        for task, record in run_tasks(pending, workers):  # nothing pending: nothing starts
+        for task, record in results:  # nothing pending: nothing starts
             save_record(out, task, record)
             done[task] = record
             write_csv(out / "episodes.csv", _episodes_table(tasks, done))
@@ -147,6 +174,8 @@ def _evaluate_cells(
         "seed": seed,
         "episode_seeds": "numpy.random.SeedSequence(seed).spawn(n)[episode].generate_state(1)[0]",
         "workers": workers,
+        "backend": backend.name,
+        "address": backend.address,
         "options": options,
         "success": success_definition(success_depth),
         "success_depth": success_depth,
