@@ -222,7 +222,9 @@ class _FailingEnv:
 
 
 def test_a_sim_failure_ends_the_episode_and_pads_the_curves(monkeypatch):
-    monkeypatch.setattr(dressbench, "make_human_env", lambda robot, **options: _FailingEnv())
+    monkeypatch.setattr(
+        dressbench.factory, "make_human_env", lambda robot, **options: _FailingEnv()
+    )
     record = Runner(make_cell("fixed", "passive", horizon=6)).run(seed=0)
     assert record.sim_failure and record.steps == 3 and record.episode_return == -3.0
     np.testing.assert_allclose(record.arm_progress, [0.5, 0.6, 0.6, 0.6, 0.6, 0.6])

@@ -517,7 +517,7 @@ def test_render_into_a_missing_folder_fails_before_rendering(tmp_path, monkeypat
         raise AssertionError("rendering started")
 
     monkeypatch.setattr("dressbench.render.Renderer", no_rendering)
-    monkeypatch.setattr("dressbench.make_human_env", no_rendering)
+    monkeypatch.setattr("dressbench.factory.make_human_env", no_rendering)
     target = tmp_path / "missing" / "clip.gif"
     result = CliRunner().invoke(main, ["render", "--out", str(target), "--gown-vertices", "300"])
     line = _one_error_line(result, "--out")
