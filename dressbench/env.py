@@ -232,17 +232,10 @@ def start_pose_problem(pose: Any) -> str | None:
     ``QUATERNION_TOLERANCE`` of 1; a zero quaternion is no rotation) and a position inside
     ``WORKSPACE``, absolute in the human frame.
     """
-    try:
-        p = np.asarray(pose, dtype=float)
-    except (TypeError, ValueError):
-        return f"reset returned {_cut(pose)}, expected a pose (x, y, z, qx, qy, qz, qw)"
-    if p.shape != (7,):
-        return (
-            f"reset returned a pose of shape {p.shape}, expected (7,): "
-            "(x, y, z, qx, qy, qz, qw) in the human frame"
-        )
-    if not np.isfinite(p).all():
-        return f"reset returned a non-finite pose {_cut(p.tolist())}"
+    p, problem = _finite_vector(pose, "reset", "a pose", 7, "(x, y, z, qx, qy, qz, qw)",
+                                "(x, y, z, qx, qy, qz, qw) in the human frame")  # fmt: skip
+    if problem:
+        return problem
     norm = float(np.linalg.norm(p[3:]))
     if abs(norm - 1.0) > QUATERNION_TOLERANCE:
         return (
@@ -263,18 +256,29 @@ def start_pose_problem(pose: Any) -> str | None:
 def robot_action_problem(action: Any) -> str | None:
     """What is wrong with a robot strategy's ``act`` output, or None: it must be 3 finite
     numbers (values outside [-1, 1] are clipped by the step, not refused)."""
+    velocity = "the gripper's velocity in [-1, 1] (times ROBOT_MAX_SPEED m/s)"
+    _, problem = _finite_vector(
+        action, "act", "an action", ROBOT_ACTION_SIZE, "3 numbers", velocity
+    )
+    return problem
+
+
+def _finite_vector(
+    value: Any, method: str, noun: str, size: int, wanted: str, meaning: str
+) -> tuple[np.ndarray, str | None]:
+    """``value`` (what a plugin's ``method`` returned) as a finite float vector of ``size``, or
+    the one-line problem with it: ``noun`` names it ("a pose"), ``wanted`` what any value should
+    be, ``meaning`` what its numbers are."""
     try:
-        a = np.asarray(action, dtype=float)
+        v = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        return f"act returned {_cut(action)}, expected 3 numbers"
-    if a.shape != (3,):
-        return (
-            f"act returned an action of shape {a.shape}, expected (3,): the gripper's velocity "
-            "in [-1, 1] (times ROBOT_MAX_SPEED m/s)"
-        )
-    if not np.isfinite(a).all():
-        return f"act returned a non-finite action {_cut(a.tolist())}"
-    return None
+        return np.zeros(0), f"{method} returned {_cut(value)}, expected {wanted}"
+    if v.shape != (size,):
+        return v, f"{method} returned {noun} of shape {v.shape}, expected ({size},): {meaning}"
+    if not np.isfinite(v).all():
+        kind = noun.split()[-1]
+        return v, f"{method} returned a non-finite {kind} {_cut(v.tolist())}"
+    return v, None
 
 
 def describe_robot(robot: Any, name: str | None = None, origin: str | None = None) -> str:

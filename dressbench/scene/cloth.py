@@ -116,17 +116,6 @@ def _write(array: wp.array, data: np.ndarray) -> None:
         array.assign(np.ascontiguousarray(data, dtype=np.float32))
 
 
-def _write(array: wp.array, data: np.ndarray) -> None:
-    """Copy host data into a Warp array: in place through a cached view on the CPU."""
-    if array.device.is_cpu:
-        view = getattr(array, "_host_view", None)
-        if view is None:
-            view = array._host_view = array.numpy()
-        view[...] = data
-    else:
-        array.assign(np.ascontiguousarray(data, dtype=np.float32))
-
-
 class _DistanceSet:
     """One family of distance constraints (stretch, shear, bending or spans), sorted by colour.
 
@@ -197,7 +186,6 @@ class _Model:
         self.pin_index = arr(self.pinned, int)
         self.pin_local = arr(np.asarray(mesh.positions)[self.pinned], wp.vec3)
         self.substep_fraction = arr(np.arange(1, config.substeps + 1) / config.substeps, float)
-        self.n_caps = len(bodies.capsule_radius)
         self.cap_r = arr(bodies.capsule_radius, float)
         self.cap_body = arr(bodies.capsule_body, int)
 
@@ -215,14 +203,17 @@ class _Control:
     """What moves the cloth in the next step: the gripper's and the capsules' poses at its
     start and end (with the capsules' boxes for the broadphase), the body and sensor frames."""
 
-    def __init__(self, n_caps: int, bodies: ContactBodies, device) -> None:
+    def __init__(self, radii: wp.array, bodies: ContactBodies, device) -> None:
         identity = np.array([[0, 0, 0, 0, 0, 0, 1]], dtype=np.float32)
         self.gripper = wp.array(identity, dtype=wp.transform, device=device)
         self.gripper_prev = wp.array(identity, dtype=wp.transform, device=device)
         vec3s = {"dtype": wp.vec3, "device": device}
-        self.cap_a, self.cap_b = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
-        self.cap_a_prev, self.cap_b_prev = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
-        self.cap_lo, self.cap_hi = wp.zeros(n_caps, **vec3s), wp.zeros(n_caps, **vec3s)
+        n = radii.shape[0]
+        self.capsules = k.Capsules()
+        for name in ("a", "b", "a_prev", "b_prev", "lo", "hi"):
+            setattr(self.capsules, name, wp.zeros(n, **vec3s))
+        self.capsules.r = radii
+        self.capsules.count = n
         self.body_origin = wp.zeros(bodies.n_bodies, **vec3s)
         self.sensors = wp.zeros(bodies.n_sensors, **vec3s)
 
@@ -281,7 +272,7 @@ class Cloth:
         self._reach = config.thickness + config.broadphase_margin  # of the broadphase
         self.model = _Model(mesh, bodies, config, dt / config.substeps, self.device)
         self.state = _State(np.asarray(mesh.positions), self.device)
-        self.control = _Control(self.model.n_caps, bodies, self.device)
+        self.control = _Control(self.model.cap_r, bodies, self.device)
         self.contacts = _Contacts(self.model.n, self.device)
         self.outputs = _Outputs(self.model.n, bodies, self.device)
         self._graph = None
@@ -305,14 +296,14 @@ class Cloth:
         sensors: np.ndarray,
     ) -> None:
         """Capsule endpoints (C, 2, 3) at the start and end of the next step, and frames."""
-        control = self.control
-        _write(control.cap_a_prev, capsules_prev[:, 0])
-        _write(control.cap_b_prev, capsules_prev[:, 1])
-        _write(control.cap_a, capsules[:, 0])
-        _write(control.cap_b, capsules[:, 1])
+        control, caps = self.control, self.control.capsules
+        _write(caps.a_prev, capsules_prev[:, 0])
+        _write(caps.b_prev, capsules_prev[:, 1])
+        _write(caps.a, capsules[:, 0])
+        _write(caps.b, capsules[:, 1])
         margin = self.capsule_radius[:, None] + self._reach
-        _write(control.cap_lo, capsules.min(axis=1) - margin)
-        _write(control.cap_hi, capsules.max(axis=1) + margin)
+        _write(caps.lo, capsules.min(axis=1) - margin)
+        _write(caps.hi, capsules.max(axis=1) + margin)
         _write(control.body_origin, body_origins)
         _write(control.sensors, sensors)
 
@@ -349,8 +340,7 @@ class Cloth:
             self._launch(k.drive_pins, len(m.pinned),
                          [m.pin_index, m.pin_local, c.gripper_prev, c.gripper,
                           m.substep_fraction, substep], [s.x])  # fmt: skip
-            self._launch(k.broadphase, m.n, [s.x, c.cap_a, c.cap_b, m.cap_r, c.cap_lo, c.cap_hi,
-                                             m.n_caps, self._reach], [ct.mask])  # fmt: skip
+            self._launch(k.broadphase, m.n, [s.x, c.capsules, self._reach], [ct.mask])
             for constraints in (m.stretch, m.shear, m.bend):
                 if constraints.soft:
                     self._launch(k.zero_float, constraints.size, [], [constraints.lam])
@@ -368,8 +358,8 @@ class Cloth:
                          [s.x, m.stretch.pairs, m.stretch.rest, cfg.tension_stiffness],
                          [ct.tension])  # fmt: skip
             self._launch(k.finish, m.n,
-                         [s.x, s.x_prev, m.inv_mass, m.mass, c.cap_a, c.cap_b, c.cap_a_prev,
-                          c.cap_b_prev, m.cap_r, h, cfg.friction, ct.cap, ct.push, ct.tension,
+                         [s.x, s.x_prev, m.inv_mass, m.mass, c.capsules, h, cfg.friction, ct.cap,
+                          ct.push, ct.tension,
                           c.gripper],
                          [s.v, ct.force, ct.point, out.extremes])  # fmt: skip
             self._launch(k.vertex_normals, len(m.triangles), [s.x, m.tris], [ct.normals])
@@ -386,8 +376,7 @@ class Cloth:
     def _collide(self) -> None:
         """Tethers and capsule collisions of the vertices, then of the triangles' centroids."""
         m, s, c, ct = self.model, self.state, self.control, self.contacts
-        capsules = [c.cap_a, c.cap_b, c.cap_a_prev, c.cap_b_prev, m.cap_r, m.n_caps,
-                    self.config.thickness]  # fmt: skip
+        capsules = [c.capsules, self.config.thickness]
         self._launch(k.tether_and_collide, m.n,
                      [s.x_prev, m.inv_mass, m.tether_anchor, m.tether_length, ct.mask, *capsules],
                      [s.x, ct.cap, ct.push])  # fmt: skip

@@ -19,6 +19,21 @@ def closest_on_segment(p: wp.vec3, a: wp.vec3, b: wp.vec3) -> float:
     return wp.clamp(wp.dot(p - a, ab) / denom, 0.0, 1.0)
 
 
+@wp.struct
+class Capsules:
+    """The body's collision capsules at the start (``_prev``) and end of the step: endpoints,
+    radii, and each one's box grown by the broadphase's reach."""
+
+    a: wp.array(dtype=wp.vec3)
+    b: wp.array(dtype=wp.vec3)
+    a_prev: wp.array(dtype=wp.vec3)
+    b_prev: wp.array(dtype=wp.vec3)
+    r: wp.array(dtype=float)
+    lo: wp.array(dtype=wp.vec3)
+    hi: wp.array(dtype=wp.vec3)
+    count: int
+
+
 @wp.kernel
 def integrate(
     inv_mass: wp.array(dtype=float),
@@ -68,12 +83,7 @@ def drive_pins(
 @wp.kernel
 def broadphase(
     x: wp.array(dtype=wp.vec3),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    cap_lo: wp.array(dtype=wp.vec3),
-    cap_hi: wp.array(dtype=wp.vec3),
-    n_caps: int,
+    caps: Capsules,
     reach: float,
     mask: wp.array(dtype=int),
 ):
@@ -81,9 +91,9 @@ def broadphase(
     i = wp.tid()
     p = x[i]
     m = int(0)
-    for c in range(n_caps):
-        lo = cap_lo[c]
-        hi = cap_hi[c]
+    for c in range(caps.count):
+        lo = caps.lo[c]
+        hi = caps.hi[c]
         if (
             p[0] > lo[0]
             and p[1] > lo[1]
@@ -92,9 +102,9 @@ def broadphase(
             and p[1] < hi[1]
             and p[2] < hi[2]
         ):
-            a = cap_a[c]
-            b = cap_b[c]
-            if wp.length(p - (a + (b - a) * closest_on_segment(p, a, b))) < cap_r[c] + reach:
+            a = caps.a[c]
+            b = caps.b[c]
+            if wp.length(p - (a + (b - a) * closest_on_segment(p, a, b))) < caps.r[c] + reach:
                 m = m | (1 << c)
     mask[i] = m
 
@@ -114,12 +124,12 @@ def solve_soft_distance(
     inv_mass: wp.array(dtype=float),
     pairs: wp.array(dtype=wp.vec2i),
     rest: wp.array(dtype=float),
-    alpha: float,
+    alpha_tilde: float,
     offset: int,
     x: wp.array(dtype=wp.vec3),
     lam: wp.array(dtype=float),
 ):
-    """One soft XPBD distance constraint (compliance ``alpha`` > 0), in place."""
+    """One soft XPBD distance constraint (``alpha_tilde`` = compliance / h^2 > 0), in place."""
     k = wp.tid() + offset
     i = pairs[k][0]
     j = pairs[k][1]
@@ -127,10 +137,10 @@ def solve_soft_distance(
     wj = inv_mass[j]
     d = x[i] - x[j]
     length = wp.length(d)
-    w = wi + wj + alpha
+    w = wi + wj + alpha_tilde
     if length < 1.0e-9 or w == 0.0:
         return
-    dlam = (-(length - rest[k]) - alpha * lam[k]) / w
+    dlam = (-(length - rest[k]) - alpha_tilde * lam[k]) / w
     lam[k] = lam[k] + dlam
     corr = d / length * dlam
     x[i] = x[i] + corr * wi
@@ -162,21 +172,17 @@ def solve_hard_distance(
 
 
 @wp.func
-def push_out(
-    p: wp.vec3,
-    p_prev: wp.vec3,
-    a: wp.vec3,
-    b: wp.vec3,
-    a_prev: wp.vec3,
-    b_prev: wp.vec3,
-    radius: float,
-    thickness: float,
-) -> wp.vec3:
-    """The displacement that takes point ``p`` out of a capsule to ``radius + thickness``, on
-    the side it was on at the start of the step (zero if it is outside).
+def push_out(p: wp.vec3, p_prev: wp.vec3, caps: Capsules, c: int, thickness: float) -> wp.vec3:
+    """The displacement that takes point ``p`` out of capsule ``c`` to its radius +
+    ``thickness``, on the side it was on at the start of the step (zero if it is outside).
 
     A thin limb can move more than its radius in a step relative to the cloth; pushed out along
     the nearest normal, a point that crossed the axis would pass through the limb."""
+    a = caps.a[c]
+    b = caps.b[c]
+    a_prev = caps.a_prev[c]
+    b_prev = caps.b_prev[c]
+    radius = caps.r[c]
     q = a + (b - a) * closest_on_segment(p, a, b)
     d = p - q
     dist = wp.length(d)
@@ -200,12 +206,7 @@ def tether_and_collide(
     anchor: wp.array(dtype=int),
     max_length: wp.array(dtype=float),
     mask: wp.array(dtype=int),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    n_caps: int,
+    caps: Capsules,
     thickness: float,
     x: wp.array(dtype=wp.vec3),
     contact_cap: wp.array(dtype=int),
@@ -227,9 +228,7 @@ def tether_and_collide(
     c = int(0)
     while m != 0:  # only the capsules the broadphase found near
         if m & 1:
-            push = push_out(
-                p, x_prev[i], cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
-            )
+            push = push_out(p, x_prev[i], caps, c, thickness)
             if wp.length_sq(push) > 0.0:
                 p = p + push
                 contact_push[i] = contact_push[i] + push
@@ -245,12 +244,7 @@ def collide_triangles(
     inv_mass: wp.array(dtype=float),
     tris: wp.array(dtype=wp.vec3i),
     mask: wp.array(dtype=int),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
-    n_caps: int,
+    caps: Capsules,
     thickness: float,
     x: wp.array(dtype=wp.vec3),
     contact_cap: wp.array(dtype=int),
@@ -273,9 +267,7 @@ def collide_triangles(
     c = int(0)
     while m != 0:
         if m & 1:
-            push = push_out(
-                p, p_prev, cap_a[c], cap_b[c], cap_a_prev[c], cap_b_prev[c], cap_r[c], thickness
-            )
+            push = push_out(p, p_prev, caps, c, thickness)
             if wp.length_sq(push) > 0.0:
                 # the least-mass-weighted move of the vertices that moves the centroid by push
                 s = 3.0 / w
@@ -297,11 +289,7 @@ def finish(
     x_prev: wp.array(dtype=wp.vec3),
     inv_mass: wp.array(dtype=float),
     mass: wp.array(dtype=float),
-    cap_a: wp.array(dtype=wp.vec3),
-    cap_b: wp.array(dtype=wp.vec3),
-    cap_a_prev: wp.array(dtype=wp.vec3),
-    cap_b_prev: wp.array(dtype=wp.vec3),
-    cap_r: wp.array(dtype=float),
+    caps: Capsules,
     h: float,
     mu: float,
     contact_cap: wp.array(dtype=int),
@@ -320,9 +308,11 @@ def finish(
     f = wp.vec3(0.0)
     c = contact_cap[i]
     if c >= 0 and inv_mass[i] > 0.0:  # held vertices' contacts are the hoop's, in DART
-        t = closest_on_segment(x[i], cap_a[c], cap_b[c])
-        q = cap_a[c] + (cap_b[c] - cap_a[c]) * t
-        vs = ((cap_a[c] - cap_a_prev[c]) * (1.0 - t) + (cap_b[c] - cap_b_prev[c]) * t) / h
+        a = caps.a[c]
+        b = caps.b[c]
+        t = closest_on_segment(x[i], a, b)
+        q = a + (b - a) * t
+        vs = ((a - caps.a_prev[c]) * (1.0 - t) + (b - caps.b_prev[c]) * t) / h
         d = x[i] - q
         n = wp.normalize(d)
         vrel = vi - vs
@@ -346,7 +336,7 @@ def finish(
             f = f + n * pull_n
             if along_len > 1.0e-9:
                 f = f + along * wp.min(1.0, -mu * pull_n / along_len)
-        contact_point[i] = q + n * cap_r[c]
+        contact_point[i] = q + n * caps.r[c]
     v[i] = vi
     contact_force[i] = f
     wp.atomic_max(extremes, 0, wp.length(vi))
