@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import time
+from collections import Counter
 from collections.abc import Iterable, Sequence
 from datetime import datetime, timezone
 from pathlib import Path
@@ -146,13 +147,16 @@ def _evaluate_cells(
     else:
         workers = workers or os.cpu_count() or 1
         results = run_tasks(pending, workers)
+    left = Counter(task.cell for task in pending)  # episodes still to run, per cell
     with tqdm(
         total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
     ) as bar:
         for task, record in results:  # nothing pending: nothing starts
-            save_record(out, task, record)
+            save_record(out, task, record)  # each record at once: an interrupted run resumes
             done[task] = record
-            write_csv(out / "episodes.csv", _episodes_table(tasks, done))
+            left[task.cell] -= 1
+            if not left[task.cell]:  # the table once per finished cell, not per episode
+                write_csv(out / "episodes.csv", _episodes_table(tasks, done))
             bar.update()
     elapsed = time.perf_counter() - clock
     table = _episodes_table(tasks, done)
