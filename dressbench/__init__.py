@@ -13,7 +13,7 @@ from typing import Any
 
 from .factory import make_env, make_human_env, parallel_env
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 __all__ = [
     "ENV_ID",
     "evaluate",
