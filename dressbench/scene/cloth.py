@@ -84,11 +84,12 @@ class ContactBodies:
 
 def init_warp() -> None:
     """Initialise Warp; if nothing chose a kernel cache before, use dressbench's own
-    (``DRESSBENCH_WARP_CACHE``, default ~/.cache/dressbench/warp) and keep Warp quiet."""
+    (``DRESSBENCH_WARP_CACHE``, default ~/.cache/dressbench/warp) and keep Warp's info lines
+    (its banner, module loads) out of the output: stdout is for dressbench's results."""
     if wp.config.kernel_cache_dir is None:  # Warp fills it in when it initialises
         default = str(Path.home() / ".cache" / "dressbench" / "warp")
         wp.config.kernel_cache_dir = os.environ.get("DRESSBENCH_WARP_CACHE", default)
-        wp.config.quiet = True
+        wp.config.log_level = wp.LOG_WARNING  # no banner, no module-load lines
     wp.init()
 
 
