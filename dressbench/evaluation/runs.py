@@ -151,13 +151,17 @@ def _evaluate_cells(
     with tqdm(
         total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
     ) as bar:
-        for task, record in results:  # nothing pending: nothing starts
-            save_record(out, task, record)  # each record at once: an interrupted run resumes
-            done[task] = record
-            left[task.cell] -= 1
-            if not left[task.cell]:  # the table once per finished cell, not per episode
-                write_csv(out / "episodes.csv", _episodes_table(tasks, done))
-            bar.update()
+        try:
+            for task, record in results:  # nothing pending: nothing starts
+                save_record(out, task, record)  # each record at once: a stopped run resumes
+                done[task] = record
+                left[task.cell] -= 1
+                if not left[task.cell]:  # the table once per finished cell, not per episode
+                    write_csv(out / "episodes.csv", _episodes_table(tasks, done))
+                bar.update()
+        except BaseException:  # interrupted or failed: the table shows what finished
+            write_csv(out / "episodes.csv", _episodes_table(tasks, done))
+            raise
     elapsed = time.perf_counter() - clock
     table = _episodes_table(tasks, done)
     write_csv(out / "episodes.csv", table)
