@@ -8,6 +8,7 @@ A learned policy may read the forces on a log scale (``scale_haptics``), a choic
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -39,6 +40,7 @@ class ObservationLayout:
     size: int
 
 
+@functools.cache  # read on every step by the scripted human and the trained policies
 def observation_layout(ablation: str = "complete") -> ObservationLayout:
     """The layout of the observation of ``ablation``."""
     check_ablation(ablation)
