@@ -44,7 +44,7 @@ def _checked(check: str, **arguments: Any) -> Callable[..., Any]:
         from . import checks
 
         function = getattr(checks, check)
-        values = value if isinstance(value, tuple) else (value,)
+        values = value if isinstance(value, tuple) else () if value is None else (value,)
         try:
             for one in values:
                 function(one, name="", **arguments)
@@ -184,8 +184,8 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     default="complete",
     show_default=True,
 )
-@click.option("--timesteps", default=200_000, show_default=True, callback=_at_least(1),
-              help="Environment steps.")  # fmt: skip
+@click.option("--timesteps", type=int, default=None, callback=_at_least(1),
+              help="Environment steps (default: the recipe's).")  # fmt: skip
 @click.option("--envs", default=0, callback=_WORKERS,
               help="Parallel env processes (default: one per core).")  # fmt: skip
 @click.option("--seed", default=0, show_default=True, callback=_SEED)
@@ -211,13 +211,23 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     help="Start some episodes with the hand near the opening (default: the recipe's).",
 )
 @click.option(
+    "--warmup/--no-warmup",
+    default=None,
+    help="Bring the deformation term in after the first steps (default: the recipe's).",
+)
+@click.option(
     "--haptics",
     type=click.Choice(["log", "newtons"]),
     default=None,
     help="How the policy reads contact forces (default: the recipe's; paper: newtons).",
 )
 def train(
-    resume: bool, recipe: str, curriculum: bool | None, haptics: str | None, **options
+    resume: bool,
+    recipe: str,
+    curriculum: bool | None,
+    warmup: bool | None,
+    haptics: str | None,
+    **options,
 ) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     import shutil
@@ -227,11 +237,15 @@ def train(
     from .training import TrainConfig
     from .training import train as train_policy
     from .training.curriculum import CurriculumConfig
+    from .training.warmup import WarmupConfig
 
     if curriculum is not None:
         options["curriculum"] = CurriculumConfig() if curriculum else None
+    if warmup is not None:
+        options["warmup"] = WarmupConfig() if warmup else None
     if haptics is not None:
         options["haptics"] = haptics
+    options = {key: value for key, value in options.items() if value is not None}  # the recipe's
     config = TrainConfig.preset(recipe, **options)
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:
@@ -270,8 +284,8 @@ def _require_train_extra() -> None:
               help="Algorithms (repeatable: a grid axis; default: the recipe's).")  # fmt: skip
 @click.option("--recipe", type=click.Choice(["default", "paper"]), default="default",
               show_default=True)  # fmt: skip
-@click.option("--timesteps", default=200_000, show_default=True, callback=_at_least(1),
-              help="Environment steps per run.")  # fmt: skip
+@click.option("--timesteps", type=int, default=None, callback=_at_least(1),
+              help="Environment steps per run (default: the recipe's).")  # fmt: skip
 @click.option("--envs", default=1, show_default=True, callback=_WORKERS,
               help="Env processes per run, each a CPU it reserves (0: one per core).")  # fmt: skip
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)

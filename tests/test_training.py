@@ -14,8 +14,10 @@ import pytest
 
 from dressbench import plugins
 from dressbench.evaluation import evaluate, leaderboard, make_cell
+from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
+from dressbench.training.warmup import DeformationShare, WarmupConfig
 
 TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}
 
@@ -111,7 +113,7 @@ def test_training_resumes_after_a_kill_and_loses_at_most_one_checkpoint(tmp_path
     config = tiny_config(tmp_path, timesteps=2048, checkpoint_every=128, name="killed")
     code = (
         "from dressbench.training import TrainConfig, train; import json, sys; "
-        "train(TrainConfig(**json.loads(sys.argv[1])), progress=False)"
+        "train(TrainConfig.from_dict(json.loads(sys.argv[1])), progress=False)"
     )
     worker = subprocess.Popen([sys.executable, "-c", code, json.dumps(asdict(config))])
     marker = tmp_path / "runs" / "killed" / "checkpoint.json"
@@ -171,3 +173,38 @@ def test_the_default_recipe_trains_a_front_linear_human_that_beats_scripted(
         scores[human] = table["final_arm_progress"].mean()
     print(f"mean final arm progress after {steps} steps: {scores}")
     assert scores[config.run_name] > scores["scripted"] + 0.05
+
+
+def test_the_deformation_warmup_grows_r_d_into_the_papers_reward():
+    warmup = WarmupConfig(start=100, end=300)
+    assert [warmup.share(s) for s in (0, 100, 200, 300, 10_000)] == [0.0, 0.0, 0.5, 1.0, 1.0]
+    assert TrainConfig.preset("paper").warmup is None  # the paper's reward from the first step
+    with pytest.raises(ValueError, match="start <= end"):
+        WarmupConfig(start=2, end=1)
+
+
+def test_a_warming_up_run_logs_the_share_of_r_d_it_trained_on(tmp_path):
+    config = tiny_config(tmp_path, timesteps=384, name="warm", warmup=WarmupConfig(128, 256))
+    train(config, progress=False)
+    logged = pd.read_csv(tmp_path / "runs" / "warm" / "logs" / "progress.csv")
+    assert logged["warmup/deformation_share"].tolist() == [0.0, 0.0, 1.0]  # at 0, 128, 256 steps
+
+
+def test_the_deformation_share_scales_only_the_deformation_term():
+    rewards = {}
+    for share in (0.0, 0.5, 1.0):
+        env = DeformationShare(make_human_env("fixed", gown_vertices=600, horizon=8), share)
+        env.reset(seed=3)
+        _, rewards[share], _, _, info = env.step(np.zeros(env.action_space.shape))
+        env.close()
+    deformation = info["reward_terms"]["deformation"]
+    assert deformation < 0.0  # the hanging gown's triangles are a little stretched
+    assert rewards[1.0] == pytest.approx(sum(info["reward_terms"].values()))  # the paper's reward
+    assert rewards[1.0] - rewards[0.0] == pytest.approx(deformation)
+    assert rewards[0.5] - rewards[0.0] == pytest.approx(deformation / 2)
+
+
+def test_a_config_comes_back_whole_from_its_run_json_fields():
+    config = TrainConfig(robot="side_linear", curriculum=CurriculumConfig(share=0.3))
+    assert TrainConfig.from_dict(json.loads(json.dumps(asdict(config)))) == config
+    assert TrainConfig.from_dict(asdict(TrainConfig.preset("paper"))).warmup is None

@@ -16,6 +16,7 @@ from ..checks import (
 )
 from ..observation import check_haptic_scale
 from .curriculum import CurriculumConfig
+from .warmup import WarmupConfig
 
 ALGORITHMS = ("trpo", "ppo")
 RECIPES = ("default", "paper")
@@ -30,7 +31,7 @@ class TrainConfig:
     robot: str = "fixed"
     algo: str = "trpo"  # the paper's TRPO, or "ppo"
     ablation: str = "complete"
-    timesteps: int = 200_000
+    timesteps: int = 1_000_000  # the warm-up's end, then as many steps on the whole reward
     envs: int = 0  # parallel env processes; 0 means one per core
     seed: int = 0
     gown_vertices: int = 2000
@@ -47,6 +48,8 @@ class TrainConfig:
     norm_epsilon: float = 0.1
     checkpoint_every: int = 20_000  # environment steps between checkpoints
     curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
+    # r_d left out, then brought in to its full weight (training/warmup.py); None: from step 0
+    warmup: WarmupConfig | None = WarmupConfig()
     out: str = "runs"
     policies: str = "policies"
     name: str = ""  # defaults to ROBOT-ABLATION-ALGO-sSEED
@@ -90,14 +93,23 @@ class TrainConfig:
     @classmethod
     def preset(cls, recipe: str = "default", **changes) -> TrainConfig:
         """A named recipe with ``changes`` on top. "paper" is Clegg et al.'s published setting:
-        TRPO, torque = action x 10 N m, 50,000-sample batches, forces in newtons, no curriculum."""
+        TRPO, torque = action x 10 N m, 50,000-sample batches, forces in newtons, no curriculum,
+        the whole reward from the first step."""
         if recipe not in RECIPES:
             raise ValueError(f"unknown recipe {recipe!r}: choose one of {', '.join(RECIPES)}")
         base = {"recipe": recipe}
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
-                     "haptics": "newtons", "norm_epsilon": 1e-8, "curriculum": None}  # fmt: skip
+                     "haptics": "newtons", "norm_epsilon": 1e-8, "curriculum": None,
+                     "warmup": None}  # fmt: skip
         return cls(**(base | changes))
+
+    @classmethod
+    def from_dict(cls, fields: dict) -> TrainConfig:
+        """The config of ``dataclasses.asdict(config)`` (as in run.json), nested parts included."""
+        nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig}
+        parts = {key: kind(**fields[key]) for key, kind in nested.items() if fields.get(key)}
+        return cls(**(fields | parts))
 
     @property
     def run_name(self) -> str:

@@ -30,6 +30,7 @@ from ..scene.world import actuated_scene
 from .config import TrainConfig
 from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
+from .warmup import DeformationShare, WarmupConfig
 from .wrappers import ScaledHaptics
 
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
@@ -91,6 +92,8 @@ class TrainingRun:
                 steps = [_Checkpoints(self), _StopAt(total), _Progress(done, total, progress)]
                 if self.curriculum is not None:
                     steps.append(self.curriculum)
+                if self.config.warmup is not None:
+                    steps.append(Warmup(self.config.warmup))
                 callbacks = CallbackList(steps)
                 model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
                 self.save_checkpoint(model)
@@ -220,6 +223,8 @@ class _EnvFactory:
         if cfg.haptics != "newtons":
             env = ScaledHaptics(env, cfg.ablation, cfg.haptics)
         keywords = ("arm_progress", "max_deformation", "sim_failure")
+        if cfg.warmup is not None:
+            env = DeformationShare(env, cfg.warmup.share(0))
         if cfg.curriculum is not None:
             env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)
             keywords += ("near_start",)
@@ -314,4 +319,21 @@ class CurriculumLevels(BaseCallback):
             self.recent.clear()
             self.training_env.env_method("set_reach", self.reach)
         self.logger.record("curriculum/reach", self.reach)
+        return True
+
+
+class Warmup(BaseCallback):
+    """Sets the training envs' deformation share at the start of each rollout, from the steps
+    done so far (a resumed run picks up where its checkpoint was), and logs it."""
+
+    def __init__(self, config: WarmupConfig) -> None:
+        super().__init__()
+        self.config = config
+
+    def _on_rollout_start(self) -> None:
+        share = self.config.share(self.num_timesteps)
+        self.training_env.env_method("set_share", share)
+        self.logger.record("warmup/deformation_share", share)
+
+    def _on_step(self) -> bool:
         return True
