@@ -2,15 +2,18 @@
 
 import json
 import os
+import re
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from click.testing import CliRunner
 
 import dressbench
 from dressbench import files as atomic
+from dressbench.cli import main
 from dressbench.evaluation import (
     SUCCESS_DEPTH,
     Runner,
@@ -293,3 +296,20 @@ def test_leaderboard_writes_one_row_per_cell(tmp_path):
     assert len(pd.read_csv(tmp_path / "curves.csv")) == 2 * 10
     assert "| fixed | random | complete | 2 |" in (tmp_path / "leaderboard.md").read_text()
     assert (tmp_path / "curves_fixed.png").stat().st_size > 0
+
+
+def test_the_readme_of_a_results_folder_says_how_to_remake_it_and_lists_what_is_there(tmp_path):
+    leaderboard(episodes=2, workers=1, out=tmp_path, robots=["fixed"], humans=["passive"], **TINY)
+    readme = (tmp_path / "README.md").read_text()
+    listed = re.findall(r"^\* (.+?): ", readme, flags=re.MULTILINE)
+    named = [name.strip("`") for entry in listed for name in entry.split(", ")]
+    assert sorted(named) == sorted(p.name for p in tmp_path.iterdir() if p.name != "README.md")
+    meta = json.loads((tmp_path / "run_meta.json").read_text())
+    assert meta["git_commit"] is None or meta["git_commit"] in readme
+
+    command = re.search(r"`(dressbench evaluate leaderboard .+?)`", readme).group(1)
+    before = (tmp_path / "leaderboard.csv").read_bytes()
+    result = CliRunner().invoke(main, [*command.split()[1:], "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "leaderboard.csv").read_bytes() == before  # the same table, from the cache
+    assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0

@@ -17,6 +17,7 @@ from dressbench.evaluation import evaluate, leaderboard, make_cell
 from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
+from dressbench.training.summary import write_learning_summary
 from dressbench.training.warmup import DeformationShare, WarmupConfig
 
 TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}
@@ -49,6 +50,9 @@ def test_run_json_records_steps_wall_time_and_speed(tmp_path):
     result = json.loads((tmp_path / "runs" / "timed" / "run.json").read_text())["result"]
     assert result["steps"] == 256 and result["training_seconds"] > 0
     assert result["env_steps_per_second"] == pytest.approx(256 / result["training_seconds"], 0.01)
+    files = write_learning_summary(tmp_path / "runs" / "timed", tmp_path / "summary")
+    assert [f.name for f in files] == ["timed-progress.csv", "timed-learning.png", "timed-run.json"]
+    assert json.loads(files[2].read_text())["result"] == result  # a summary carries its config
 
 
 def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path):

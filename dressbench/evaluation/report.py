@@ -9,6 +9,7 @@ import pandas as pd
 
 from ..files import slug, write_csv, write_json, write_png, write_text
 from .plots import curves_figure, scores_figure
+from .readme import write_results_readme
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import CONFIDENCE, RESAMPLES
 
@@ -96,7 +97,8 @@ def write_summary(
     meta: dict[str, Any],
     success_depth: float = SUCCESS_DEPTH,
 ) -> None:
-    """Write curves.csv, leaderboard.csv/.md, run_meta.json and the PNG plots, each atomically."""
+    """Write curves.csv, leaderboard.csv/.md, run_meta.json, the PNG plots and README.md, each
+    atomically."""
     write_csv(out / "curves.csv", curves)
     write_csv(out / "leaderboard.csv", board)
     write_text(out / "leaderboard.md", markdown_leaderboard(board, success_depth))
@@ -104,3 +106,4 @@ def write_summary(
     for robot in dict.fromkeys(board["robot"]):
         write_png(out / f"curves_{slug(robot)}.png", curves_figure(curves, robot, success_depth))
     write_png(out / "final_scores.png", scores_figure(board, success_depth))
+    write_results_readme(out)

@@ -19,7 +19,7 @@ from ..files import write_csv
 from ..provenance import git_commit, versions
 from .cells import Cell, checked_pair, leaderboard_cells, make_cell
 from .remote import ray_tasks
-from .report import success_definition, write_summary
+from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
@@ -187,8 +187,10 @@ def _evaluate_cells(
         "options": options,
         "success": success_definition(success_depth),
         "success_depth": success_depth,
-        "confidence_interval": f"{CONFIDENCE:.0%} percentile bootstrap of the mean, "
-        f"{RESAMPLES} resamples, numpy default_rng(seed)",
+        "stages": stage_definitions(success_depth),
+        "confidence_interval": f"means: {CONFIDENCE:.0%} percentile bootstrap of the mean, "
+        f"{RESAMPLES} resamples, numpy default_rng(seed); stage rates: {CONFIDENCE:.0%} Wilson "
+        f"score interval",
         "cells": [cell.columns for cell in cells],
         "plugins": [
             {"robot": cell.identity["robot"], "human": cell.identity["human"]} for cell in cells

@@ -6,13 +6,14 @@ what a reader of ``results/training/`` looks at first; the table is what it was 
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ..files import write_csv, write_png
+from ..files import write_csv, write_json, write_png
 
 STEPS = "time/total_timesteps"
 PANELS = (  # column of progress.csv, title, axis label
@@ -61,10 +62,20 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
 def write_learning_summary(
     run_folder: str | Path, out: str | Path, until: int | None = None
 ) -> list[Path]:
-    """Write ``NAME-progress.csv`` and ``NAME-learning.png`` for the run into ``out``."""
+    """Write the run's learning summary into ``out``: ``NAME-progress.csv``, ``NAME-learning.png``
+    and ``NAME-run.json`` (its configuration and versions, with the steps and learning time
+    read off the table if the run did not record them)."""
     run_folder, out = Path(run_folder), Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    return write_learning_table(learning_table(run_folder, until), run_folder.name, out)
+    table = learning_table(run_folder, until)
+    run = json.loads((run_folder / "run.json").read_text())
+    if "result" not in run:
+        steps, seconds = int(table[STEPS].iloc[-1]), training_seconds(table)
+        run["result"] = {"steps": steps, "training_seconds": round(seconds, 1),
+                         "env_steps_per_second": round(steps / max(seconds, 1e-9), 1)}  # fmt: skip
+    run_json = out / f"{run_folder.name}-run.json"
+    write_json(run_json, run)
+    return [*write_learning_table(table, run_folder.name, out), run_json]
 
 
 def write_learning_table(table: pd.DataFrame, name: str, out: Path) -> list[Path]:

@@ -1,0 +1,129 @@
+"""A results folder's README.md, written from what the folder holds: how its tables were made
+(the command, rebuilt from run_meta.json, and the commit), what each file is, and the learning
+summaries and other evaluations below it. Nothing in it is typed by hand, so it cannot drift
+from the files."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from ..files import write_text
+
+README = "README.md"
+_WRITTEN = ("Written by dressbench from the files in this folder (`dressbench.evaluation.readme`) "
+            "each time an evaluation writes to it.")  # fmt: skip
+
+# what each file an evaluation writes is; a name with {robot} is one file per robot strategy
+_FILES = {
+    "leaderboard.md": "the leaderboard table, with every number defined in its caption",
+    "leaderboard.csv": "the same table, every column (means, std, 95% intervals, stage rates)",
+    "episodes.csv": "one row per rollout: its seed, final arm progress, max deformation, stages",
+    "curves.csv": "mean and std of arm progress and deformation at every policy step, per cell",
+    "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",
+    "final_scores.png": "bars of final arm progress and max deformation per cell",
+    "curves_{robot}.png": "arm progress and max deformation over the episode, one robot strategy",
+    "report": "a web page of the leaderboard with one rollout video per cell (`dressbench report`)",
+    "rollouts": "the resume cache, one record per rollout (not committed: `.gitignore`)",
+}
+
+
+def results_readme(folder: str | Path) -> str:
+    """The README of ``folder`` (a results folder with a ``run_meta.json``, or a folder of
+    learning summaries and results folders)."""
+    folder = Path(folder)
+    lines = [f"# {folder.name}", "", _WRITTEN, ""]
+    meta_path = folder / "run_meta.json"
+    if meta_path.exists():
+        lines += _evaluation(json.loads(meta_path.read_text()), folder)
+    summaries = sorted(folder.rglob("*-run.json"))
+    if summaries:
+        lines += ["## Learning summaries", "",
+                  "Each training run's `NAME-progress.csv` (every logged update), "
+                  "`NAME-learning.png` and `NAME-run.json` (its configuration and versions):", "",
+                  "| run | robot | ablation | algorithm | recipe | steps | hours | dressbench |",
+                  "|---|---|---|---|---|---:|---:|---|"]  # fmt: skip
+        lines += [_summary_row(path, folder) for path in summaries]
+        lines.append("")
+    nested = sorted(p.parent for p in folder.glob("*/**/run_meta.json"))
+    if nested:
+        lines += ["## Other evaluations below this folder", ""]
+        for sub in nested:
+            meta = json.loads((sub / "run_meta.json").read_text())
+            lines.append(f"* `{sub.relative_to(folder).as_posix()}/`: {_cells(meta)}, "
+                         f"`{command_line(meta)}` at {_commit(meta)}")  # fmt: skip
+        lines.append("")
+    return "\n".join(lines)
+
+
+def write_results_readme(folder: str | Path) -> Path:
+    """Write ``folder/README.md`` from its contents; returns its path."""
+    path = Path(folder) / README
+    write_text(path, results_readme(folder))
+    return path
+
+
+def command_line(meta: dict[str, Any]) -> str:
+    """The ``dressbench evaluate`` command that makes (or, from its cache, re-makes) the tables
+    of ``meta``: the same cells, episodes, seed and env settings."""
+    cells = meta["cells"]
+    words = ["dressbench", "evaluate"]
+    if meta["command"] == "leaderboard":
+        words.append("leaderboard")
+    words += ["--episodes", str(meta["episodes_per_cell"]), "--seed", str(meta["seed"])]
+    for option, value in meta.get("options", {}).items():
+        words += [f"--{option.replace('_', '-')}", str(value)]
+    for role in ("robot", "human"):
+        for name in dict.fromkeys(cell[role] for cell in cells):
+            words += [f"--{role}", name]
+    return " ".join(words)
+
+
+def _evaluation(meta: dict[str, Any], folder: Path) -> list[str]:
+    versions = meta.get("versions", {})
+    lines = [
+        "## How the tables were made", "",
+        f"`{command_line(meta)}`", "",
+        f"at {_commit(meta)}, dressbench {versions.get('dressbench', '?')}: {_cells(meta)} "
+        f"(base seed {meta['seed']}; finished rollouts in `rollouts/` are reused, so this run "
+        f"simulated {meta['episodes_run']} of them in {meta['elapsed_seconds'] / 60:.0f} min "
+        f"on {meta['workers']} {meta['backend']} workers, started {meta['started']}).", "",
+        "| robot | human | ablation | the human is |", "|---|---|---|---|",
+    ]  # fmt: skip
+    for cell, plugin in zip(meta["cells"], meta["plugins"], strict=True):
+        lines.append(f"| {cell['robot']} | {cell['human']} | {cell['ablation']} "
+                     f"| {_source(plugin['human'])} |")  # fmt: skip
+    lines += ["", "## Files", ""]
+    robots = list(dict.fromkeys(cell["robot"] for cell in meta["cells"]))
+    for name, what in _FILES.items():
+        names = [name.format(robot=robot) for robot in robots] if "{robot}" in name else [name]
+        present = [n for n in names if (folder / n).exists()]
+        if present:
+            lines.append(f"* {', '.join(f'`{n}`' for n in present)}: {what}")
+    return lines + [""]
+
+
+def _source(human: dict[str, Any]) -> str:
+    if human.get("source") == "policy file":
+        return f"a trained policy file, sha256 {human['checksum'][:12]}…"
+    return f"a plugin of {human.get('distribution', '?')} {human.get('version', '?')}"
+
+
+def _cells(meta: dict[str, Any]) -> str:
+    return f"{len(meta['cells'])} cells × {meta['episodes_per_cell']} seeded rollouts"
+
+
+def _commit(meta: dict[str, Any]) -> str:
+    return f"commit {meta['git_commit']}" if meta.get("git_commit") else "an unknown commit"
+
+
+def _summary_row(path: Path, folder: Path) -> str:
+    run = json.loads(path.read_text())
+    config, result = run["config"], run.get("result", {})
+    hours = f"{result['training_seconds'] / 3600:.1f}" if "training_seconds" in result else "?"
+    name = path.relative_to(folder).as_posix().removesuffix("-run.json")
+    steps = f"{result['steps']:,}" if "steps" in result else "?"
+    return (f"| `{name}` | {config['robot']} | {config['ablation']} | {config['algo']} "
+            f"| {config.get('recipe', '?')} | {steps} | {hours} "
+            f"| {run['versions'].get('dressbench', '?')} |")  # fmt: skip
