@@ -16,14 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
 
-from dressbench.plugins.protocols import (
-    HUMAN_API_VERSION,
-    HUMAN_GROUP,
-    ROBOT_API_VERSION,
-    ROBOT_GROUP,
-    HumanPolicy,
-    RobotStrategy,
-)
+from dressbench.plugins import protocols
 
 OK = "ok"
 ERROR = "error"
@@ -159,11 +152,11 @@ class _Kind:
     sources: tuple[Callable[[str], list[_Entry]], ...] = (_entry_point_entries,)
 
 
-_ROBOT = _Kind(ROBOT_GROUP, "robot", ROBOT_API_VERSION, ("reset", "act"), ())
+_ROBOT = _Kind(protocols.ROBOT_GROUP, "robot", protocols.ROBOT_API_VERSION, ("reset", "act"), ())
 _HUMAN = _Kind(
-    HUMAN_GROUP,
+    protocols.HUMAN_GROUP,
     "human",
-    HUMAN_API_VERSION,
+    protocols.HUMAN_API_VERSION,
     ("reset", "act"),
     ("robot", "ablation"),
     sources=(_entry_point_entries, _policy_file_entries),
@@ -337,11 +330,11 @@ def _load(kind: _Kind, name: str) -> object:
     return plugin.factory()
 
 
-def load_robot(name: str) -> RobotStrategy:
+def load_robot(name: str) -> protocols.RobotStrategy:
     """A new instance of the robot strategy registered as ``name`` (checked on discovery)."""
-    return cast(RobotStrategy, _load(_ROBOT, name))
+    return cast(protocols.RobotStrategy, _load(_ROBOT, name))
 
 
-def load_human(name: str) -> HumanPolicy:
+def load_human(name: str) -> protocols.HumanPolicy:
     """A new instance of the human policy registered as ``name`` (checked on discovery)."""
-    return cast(HumanPolicy, _load(_HUMAN, name))
+    return cast(protocols.HumanPolicy, _load(_HUMAN, name))
