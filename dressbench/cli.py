@@ -391,6 +391,31 @@ def leaderboard_command(
         click.echo(f"report in {write_report(out, workers=workers or None)}")
 
 
+@evaluate.command("reproduce")
+@click.option("--episodes", default=100, show_default=True, callback=_EPISODES)
+@click.option("--seed", default=0, show_default=True, callback=_SEED)
+@click.option("--workers", default=0, callback=_WORKERS,
+              help="Parallel processes (default: one per core).")  # fmt: skip
+@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
+@click.option("--horizon", default=400, show_default=True, callback=_HORIZON)
+@click.option("--out", default="results/reproduction", show_default=True, callback=_FOLDER)
+@click.option("--human", "humans", multiple=True,
+              help="Only these trained humans (repeatable; default: every one that plays one of "
+                   "the paper's policies).")  # fmt: skip
+@_backend_options
+def reproduce_command(episodes, seed, workers, gown_vertices, horizon, out, humans, backend,
+                      address):  # fmt: skip
+    """The paper's comparison: its five policies, the cross-play, a verdict per claim."""
+    from .evaluation.reproduction import paper_humans, reproduce
+
+    claims = reproduce(episodes=episodes, seed=seed, workers=workers or None, out=out,
+                       humans=paper_humans(humans or None), gown_vertices=gown_vertices,
+                       horizon=horizon, backend=backend, address=address)  # fmt: skip
+    for claim in claims.itertuples():
+        click.echo(f"claim {claim.claim}: {claim.verdict}")
+    click.echo(f"claims in {out}/claims.md, figures in {out}/*.png")
+
+
 @main.command("report")
 @click.argument("results", default="results", type=click.Path(file_okay=False))
 @click.option("--videos/--no-videos", default=True, show_default=True,

@@ -178,6 +178,12 @@ def deformation_reward(max_ratio: float, threshold: float = 15.0, scale: float =
     return float(np.tanh(scale * (threshold - max_ratio + 2.0)) - 1.0)
 
 
+def deformation_limit(threshold: float = 15.0, scale: float = 0.7, penalty: float = 0.1) -> float:
+    """The area ratio at which r_d reaches -``penalty``: the deformation threshold a figure draws
+    and a verdict of "low deformation" is read against (the paper's numbers give 14.9)."""
+    return threshold + 2.0 - float(np.arctanh(1.0 - penalty)) / scale
+
+
 def geodesic_contact_reward(
     contained: bool, effector_contact_vertices: ArrayLike, geodesic: ArrayLike
 ) -> float:

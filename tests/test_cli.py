@@ -52,3 +52,12 @@ def test_an_unknown_strategy_is_a_one_line_error_not_a_traceback():
         assert result.exit_code == 1
         assert result.output.startswith("Error: unknown robot") and "fixd" in result.output
         assert len(result.output.strip().splitlines()) == 1
+
+
+def test_reproduce_refuses_a_human_that_plays_none_of_the_papers_policies_in_one_line(tmp_path):
+    result = CliRunner().invoke(
+        main, ["evaluate", "reproduce", "--human", "scripted", "--out", str(tmp_path)]
+    )
+    assert result.exit_code != 0
+    assert "'scripted' plays none of the paper's policies" in result.output
+    assert "Traceback" not in result.output and not list(tmp_path.iterdir())

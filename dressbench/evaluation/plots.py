@@ -6,6 +6,7 @@ no display, safe in worker processes and notebooks alike.
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
@@ -66,4 +67,74 @@ def scores_figure(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> 
     progress_axes.axhline(success_depth, color="0.4", linestyle="--", linewidth=1, label="success")
     progress_axes.legend(fontsize="small")
     figure.suptitle("final scores per leaderboard cell (mean ± std over episodes)")
+    return figure
+
+
+def role_curves_figure(
+    curves: pd.DataFrame, lines: list[tuple[str, str]], limit: float, title: str
+) -> Figure:
+    """The paper's Figs. 5 and 7: arm progress and max deformation over the episode (mean ± std),
+    one line per (robot, human), the deformation threshold drawn."""
+    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    progress_axes, deformation_axes = figure.subplots(1, 2)
+    for robot, human in lines:
+        cell = curves[(curves["robot"] == robot) & (curves["human"] == human)]
+        for axes, metric in (
+            (progress_axes, "arm_progress"),
+            (deformation_axes, "max_deformation"),
+        ):
+            mean, std = cell[f"{metric}_mean"], cell[f"{metric}_std"].fillna(0.0)
+            (line,) = axes.plot(cell["step"], mean, label=f"{human} on {robot}")
+            axes.fill_between(cell["step"], mean - std, mean + std, color=line.get_color(),
+                              alpha=0.2)  # fmt: skip
+    deformation_axes.axhline(limit, color="0.3", linestyle="--", linewidth=1, label="threshold")
+    progress_axes.set(title="arm progress", ylabel="depth into the sleeve (m)")
+    deformation_axes.set(title="max deformation", ylabel="running max of triangle area ratio")
+    for axes in (progress_axes, deformation_axes):
+        axes.set_xlabel(f"policy step ({ROBOT_DT} s)")
+        axes.grid(alpha=0.3)
+        axes.legend(fontsize="small")
+    figure.suptitle(f"{title} (mean ± std over episodes)")
+    return figure
+
+
+def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
+    """The paper's Fig. 6: final arm progress and max deformation of each of its policies, bars
+    at the pooled mean with 95% interval whiskers, the deformation threshold drawn."""
+    figure = Figure(figsize=(10, 4.4), layout="constrained")
+    measured = roles[roles["episodes"] > 0]
+    positions = list(range(len(measured)))
+    for axes, metric, title in zip(
+        figure.subplots(1, 2),
+        ("final_arm_progress", "max_deformation"),
+        ("final arm progress (m)", "max deformation (area ratio)"),
+        strict=True,
+    ):
+        mean = measured[f"{metric}_mean"]
+        whiskers = [mean - measured[f"{metric}_ci_low"], measured[f"{metric}_ci_high"] - mean]
+        axes.bar(positions, mean, yerr=whiskers, capsize=4, color=[f"C{i}" for i in positions])
+        axes.set_xticks(positions, measured["role"], fontsize="small", rotation=30, ha="right")
+        axes.set_title(title)
+        axes.grid(axis="y", alpha=0.3)
+        if metric == "max_deformation":
+            axes.axhline(limit, color="0.3", linestyle="--", linewidth=1, label="threshold")
+            axes.legend(fontsize="small")
+    figure.suptitle("the paper's policies: final scores (mean, 95% CI; seeds pooled)")
+    return figure
+
+
+def cross_play_figure(cross: pd.DataFrame) -> Figure:
+    """A heat map of each complete human's mean final arm progress on each robot strategy."""
+    grid = cross.pivot(index="human", columns="robot", values="final_arm_progress")
+    figure = Figure(figsize=(2.0 + 1.6 * grid.shape[1], 1.5 + 0.6 * grid.shape[0]),
+                    layout="constrained")  # fmt: skip
+    axes = figure.subplots()
+    image = axes.imshow(grid.to_numpy(), cmap="viridis", vmin=0.0, aspect="auto")
+    axes.set_xticks(range(grid.shape[1]), grid.columns)
+    axes.set_yticks(range(grid.shape[0]), grid.index)
+    for (row, column), value in np.ndenumerate(grid.to_numpy()):
+        axes.text(column, row, f"{value:.2f}", ha="center", va="center", color="w")
+    axes.set(xlabel="robot strategy evaluated with", ylabel="human (trained for its strategy)")
+    figure.colorbar(image, ax=axes, label="mean final arm progress (m)")
+    figure.suptitle("cross-play: each human on each strategy")
     return figure

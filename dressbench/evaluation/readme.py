@@ -69,12 +69,12 @@ def command_line(meta: dict[str, Any]) -> str:
     of ``meta``: the same cells, episodes, seed and env settings."""
     cells = meta["cells"]
     words = ["dressbench", "evaluate"]
-    if meta["command"] == "leaderboard":
-        words.append("leaderboard")
+    if meta["command"] in ("leaderboard", "reproduce"):
+        words.append(meta["command"])
     words += ["--episodes", str(meta["episodes_per_cell"]), "--seed", str(meta["seed"])]
     for option, value in meta.get("options", {}).items():
         words += [f"--{option.replace('_', '-')}", str(value)]
-    for role in ("robot", "human"):
+    for role in ("robot", "human") if meta["command"] != "reproduce" else ("human",):
         for name in dict.fromkeys(cell[role] for cell in cells):
             words += [f"--{role}", name]
     return " ".join(words)

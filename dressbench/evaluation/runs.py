@@ -52,9 +52,9 @@ def evaluate(
     instance or, given an ``address``, a cluster (docs/cluster.md): the same files, the same
     numbers.
     """
-    where = _check_run(episodes, seed, workers, out, backend, address)
+    where = check_run(episodes, seed, workers, out, backend, address)
     cell = make_cell(robot, human, checked_pair(robot, human), **options)
-    episodes_table, _ = _evaluate_cells(
+    episodes_table, _ = evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options,
         backend=where,
     )  # fmt: skip
@@ -82,20 +82,20 @@ def leaderboard(
     restrict the names. Returns the leaderboard table (as in leaderboard.csv). ``backend`` and
     ``address`` are those of ``evaluate``.
     """
-    where = _check_run(episodes, seed, workers, out, backend, address)
+    where = check_run(episodes, seed, workers, out, backend, address)
     cells = leaderboard_cells(robots, humans, **options)
     if not cells:
         raise ValueError(
             "nothing to evaluate: no usable robot strategy with a usable human meant for it"
         )
-    _, board = _evaluate_cells(
+    _, board = evaluate_cells(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options,
         backend=where,
     )  # fmt: skip
     return board
 
 
-def _check_run(
+def check_run(
     episodes: int,
     seed: int,
     workers: int | None,
@@ -115,7 +115,7 @@ def _check_run(
     return Backend(backend, address)
 
 
-def _evaluate_cells(
+def evaluate_cells(
     cells: Sequence[Cell],
     episodes: int,
     seed: int,

@@ -1,0 +1,126 @@
+"""The paper's comparison: verdicts read off the intervals, and the files `reproduce` writes."""
+
+import json
+
+import pandas as pd
+import pytest
+
+from dressbench import plugins
+from dressbench.evaluation.reproduction import (
+    FAILS,
+    HOLDS,
+    PARTLY,
+    ROLE_COLUMNS,
+    ROLES,
+    UNMEASURED,
+    claims_table,
+    paper_humans,
+    reproduce,
+)
+from dressbench.metrics import deformation_limit
+from dressbench.training import TrainConfig, train
+
+LIMIT = deformation_limit(1.0, 1.5)  # 2.02: where r_d reaches -0.1
+
+
+def role(progress, deformation, success=0.0, episodes=100):
+    """A role's pooled numbers with intervals of +-0.02 m, +-0.1 and +-10 points."""
+    return {
+        "episodes": episodes,
+        "final_arm_progress_mean": progress,
+        "final_arm_progress_ci_low": progress - 0.02,
+        "final_arm_progress_ci_high": progress + 0.02,
+        "max_deformation_mean": deformation,
+        "max_deformation_ci_low": deformation - 0.1,
+        "max_deformation_ci_high": deformation + 0.1,
+        "success_rate": success,
+        "success_ci_low": max(success - 0.1, 0.0),
+        "success_ci_high": min(success + 0.1, 1.0),
+    }
+
+
+def roles_table(*numbers):
+    rows = [{"role": r.name, "robot": r.robot, "ablation": r.ablation, **n}
+            for r, n in zip(ROLES, numbers, strict=True)]  # fmt: skip
+    return pd.DataFrame(rows).reindex(columns=ROLE_COLUMNS)
+
+
+def verdicts(*numbers):
+    return claims_table(roles_table(*numbers), LIMIT)["verdict"].tolist()
+
+
+def test_the_papers_findings_hold_where_the_intervals_separate_as_claimed():
+    paper_like = verdicts(
+        role(0.50, 1.4, success=0.7),  # complete on fixed: dresses, gently
+        role(0.40, 6.0),  # no_haptics: gets in, tears
+        role(0.05, 1.3),  # no_task: hovers
+        role(0.60, 1.5, success=0.8),  # front_linear
+        role(0.62, 1.5, success=0.8),  # side_linear
+    )
+    assert paper_like == [HOLDS] * 5
+
+
+def test_overlapping_intervals_or_the_wrong_direction_do_not_make_a_finding():
+    found = verdicts(
+        role(0.50, 1.95, success=0.7),  # its deformation CI reaches past the threshold
+        role(0.40, 1.5),  # progress, but no tearing
+        role(0.30, 1.3),  # enters
+        role(0.53, 1.5, success=0.8),  # overlaps fixed: not higher
+        role(0.30, 1.5),  # lower than fixed
+    )
+    assert found == [PARTLY, PARTLY, PARTLY, FAILS, PARTLY]
+
+
+def test_a_claim_whose_policy_was_not_trained_is_not_measured():
+    missing = role(float("nan"), float("nan"), episodes=0)
+    found = verdicts(role(0.5, 1.4, 0.7), missing, role(0.05, 1.3), missing, missing)
+    assert found == [HOLDS, UNMEASURED, HOLDS, UNMEASURED, UNMEASURED]
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    """Tiny real policies for three of the paper's roles, found through DRESSBENCH_POLICIES."""
+    folder = tmp_path_factory.mktemp("reproduction")
+    where = {"out": str(folder / "runs"), "policies": str(folder / "policies")}
+    tiny = {"gown_vertices": 600, "horizon": 16, "samples_per_update": 128, "envs": 1,
+            "timesteps": 64, **where}  # fmt: skip
+    for robot, ablation in (
+        ("fixed", "complete"),
+        ("fixed", "no_haptics"),
+        ("front_linear", "complete"),
+    ):
+        train(TrainConfig(robot=robot, ablation=ablation, **tiny), progress=False)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("DRESSBENCH_POLICIES", str(folder / "policies"))
+        plugins.refresh()
+        yield folder
+    plugins.refresh()
+
+
+def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(trained):
+    humans = paper_humans()
+    assert humans[ROLES[0]] == ["fixed-complete-trpo-s0"]
+    assert humans[ROLES[1]] == ["fixed-no_haptics-trpo-s0"] and humans[ROLES[2]] == []
+    out = trained / "results"
+    claims = reproduce(episodes=2, workers=1, out=out, humans=humans, horizon=6,
+                       gown_vertices=600, progress=False)  # fmt: skip
+    assert claims.loc[claims["claim"] == 3, "verdict"].item() == UNMEASURED  # no no_task human
+    cross = pd.read_csv(out / "cross_play.csv")
+    assert sorted(zip(cross["human"], cross["robot"], strict=True)) == sorted(
+        (human, robot)
+        for human in ("fixed-complete-trpo-s0", "front_linear-complete-trpo-s0")
+        for robot in ("fixed", "front_linear", "side_linear")
+    )
+    roles = pd.read_csv(out / "roles.csv")
+    assert roles.loc[0, "episodes"] == 2 and roles.loc[2, "episodes"] == 0
+    for figure in ("fig5_fixed_ablations", "fig6_final_scores", "fig7_linear_strategies",
+                   "cross_play"):  # fmt: skip
+        assert (out / f"{figure}.png").read_bytes()[:4] == b"\x89PNG"
+    assert "| 3 |" in (out / "claims.md").read_text()
+    assert json.loads((out / "run_meta.json").read_text())["command"] == "reproduce"
+    assert "dressbench evaluate reproduce --episodes 2" in (out / "README.md").read_text()
+
+
+def test_a_human_that_plays_none_of_the_papers_policies_is_refused_by_name(trained):
+    with pytest.raises(ValueError, match="'scripted' plays none of the paper's policies"):
+        paper_humans(["scripted"])
