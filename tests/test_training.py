@@ -6,7 +6,7 @@ import signal
 import subprocess
 import sys
 import time
-from dataclasses import asdict
+from dataclasses import asdict, replace
 
 import numpy as np
 import pandas as pd
@@ -212,3 +212,16 @@ def test_a_config_comes_back_whole_from_its_run_json_fields():
     config = TrainConfig(robot="side_linear", curriculum=CurriculumConfig(share=0.3))
     assert TrainConfig.from_dict(json.loads(json.dumps(asdict(config)))) == config
     assert TrainConfig.from_dict(asdict(TrainConfig.preset("paper"))).warmup is None
+
+
+def test_a_run_folder_moved_to_another_place_resumes_there(tmp_path):
+    first = tiny_config(tmp_path, timesteps=256, name="moved", out=str(tmp_path / "here"))
+    train(first, progress=False)
+    folder = tmp_path / "elsewhere" / "moved"
+    (tmp_path / "here" / "moved").rename(folder.parent.mkdir() or folder)
+    for name in ("run.json", "checkpoint.json"):
+        assert str(tmp_path) not in (folder / name).read_text()  # no absolute path inside
+    path = train(replace(first, timesteps=512, out=str(folder.parent)), progress=False)
+    assert json.loads(path.read_text())["steps"] == 512
+    steps = pd.read_csv(folder / "logs" / "progress-history.csv")["time/total_timesteps"]
+    assert steps.max() == 256  # the first session's log was kept, its steps not trained again

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 from ..checks import (
     check_folder,
@@ -104,9 +104,16 @@ class TrainConfig:
                      "warmup": None}  # fmt: skip
         return cls(**(base | changes))
 
+    def record(self) -> dict:
+        """What the run is, as run.json and the policy file record it: every field but the
+        folders it was written to (``out``, ``policies``), so a run folder moved elsewhere
+        holds no path of the machine it came from."""
+        return {k: v for k, v in asdict(self).items() if k not in ("out", "policies")}
+
     @classmethod
     def from_dict(cls, fields: dict) -> TrainConfig:
-        """The config of ``dataclasses.asdict(config)`` (as in run.json), nested parts included."""
+        """The config of ``dataclasses.asdict(config)`` or ``record()`` (as in run.json), nested
+        parts included; a record's folders are the defaults."""
         nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig}
         parts = {key: kind(**fields[key]) for key, kind in nested.items() if fields.get(key)}
         return cls(**(fields | parts))

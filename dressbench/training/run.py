@@ -13,7 +13,7 @@ import json
 import os
 import shutil
 from collections import deque
-from dataclasses import asdict, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -79,7 +79,7 @@ class TrainingRun:
             raise
 
     def _run(self, progress: bool) -> Path:
-        run_json = {"config": asdict(self.config), "versions": versions()}
+        run_json = {"config": self.config.record(), "versions": versions()}
         write_json(self.folder / "run.json", run_json)
         venv = self._envs()
         try:
@@ -112,17 +112,27 @@ class TrainingRun:
             venv = DummyVecEnv(factories)
         else:
             venv = SubprocVecEnv(factories, start_method="spawn")
-        venv.seed(cfg.seed)
+        venv.seed(self._episode_seed())
         if self.norm_path.exists():
             return VecNormalize.load(str(self.norm_path), venv)
         return VecNormalize(venv, norm_obs=True, norm_reward=True, gamma=cfg.gamma,
                             epsilon=cfg.norm_epsilon)  # fmt: skip
+
+    def _episode_seed(self) -> int:
+        """The seed of the envs' episode stream: the run's seed from the start, and after a
+        resume one drawn from (seed, steps done), so a continued run neither repeats the
+        episodes it trained on nor depends on where it is resumed."""
+        done = self._saved_state().get("timesteps", 0)
+        if not done:
+            return self.config.seed
+        return int(np.random.SeedSequence([self.config.seed, done]).generate_state(1)[0])
 
     def _model(self, venv: VecNormalize):
         """A fresh learner, or the checkpointed one and how many steps it has done."""
         algorithm = _algorithm(self.config.algo)
         if self.model_path.exists():
             model = algorithm.load(str(self.model_path), env=venv, device="cpu")
+            torch.manual_seed(self._episode_seed())  # the actions' noise continues seeded too
             return model, int(model.num_timesteps)
         cfg = self.config
         kwargs = {
@@ -197,7 +207,7 @@ class TrainingRun:
             "steps": int(model.num_timesteps),
             "versions": versions(),
             "git_commit": git_commit(),
-            "config": asdict(cfg),
+            "config": cfg.record(),
         }
         norm = model.get_vec_normalize_env()
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
