@@ -1,16 +1,23 @@
-"""Speed of the physics: the cloth alone and the whole scene step, at several resolutions."""
+"""Speed of the physics: the cloth alone and the whole scene step, at several resolutions, and
+beside PyBullet's soft-body cloth on the same gown (``compare_pybullet``, docs/benchmark.md)."""
 
 from __future__ import annotations
 
+import math
+import tempfile
 import time
 from dataclasses import replace
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from .checks import check_device, check_gown_vertices, check_int
 from .observation import human_observation
 from .scene.body import N_ACTIONS
-from .scene.garment import GownConfig
+from .scene.clock import POLICY_DT
+from .scene.garment import Gown, GownConfig, make_gown, write_obj
+from .scene.geometry import transform_points
 from .scene.world import Scene, SceneConfig
 from .state import measure
 
@@ -90,6 +97,143 @@ def bench_env(vertices: int, steps: int, device: str = "cpu", repeats: int = 3) 
                 break
         best = min(best, elapsed)
     return _row(len(env.env.scene.gown.positions), "env", steps, best, failed)
+
+
+# Assistive Gym's dressing schedule in PyBullet: frames of 0.02 s, 5 to an env step of 0.1 s,
+# each frame cut into 8 substeps (setPhysicsEngineParameter numSubSteps)
+PYBULLET_FRAME_DT = 0.02
+PYBULLET_FRAMES = 5
+PYBULLET_SUBSTEPS = 8
+PYBULLET_ENV_DT = PYBULLET_FRAME_DT * PYBULLET_FRAMES
+PYBULLET_SETTLE_FRAMES = 50  # untimed: Assistive Gym's dressing reset lets the gown settle 50
+# loadSoftBody's cloth in Assistive Gym's PyBullet-FEM dressing env: a mass-spring cloth with
+# bending springs, self-collision and face contacts (the gown's mass is dressbench's own)
+PYBULLET_CLOTH = {
+    "useMassSpring": 1,
+    "useBendingSprings": 1,
+    "springElasticStiffness": 5.0,
+    "springDampingStiffness": 0.01,
+    "springDampingAllDirections": 1,
+    "springBendingStiffness": 0.0,
+    "useSelfCollision": 1,
+    "collisionMargin": 0.0001,
+    "frictionCoeff": 0.1,
+    "useFaceContact": 1,
+}
+COMPARE_EXTRA = "pip install 'dressbench[compare]'"
+
+
+def pybullet_module() -> Any:
+    """PyBullet (the ``compare`` extra), or a ModuleNotFoundError whose one line says how to
+    install it: the comparison is optional, dressbench itself never needs PyBullet."""
+    try:
+        import pybullet  # prints its build time on stderr: --json's stdout stays clean
+    except ImportError as error:
+        raise ModuleNotFoundError(f"--compare pybullet needs PyBullet: {COMPARE_EXTRA}") from error
+    return pybullet
+
+
+def compare_pybullet(
+    vertices: int = 4000,
+    steps: int = 200,
+    device: str = "cpu",
+    repeats: int = 3,
+    self_collision: bool = True,
+) -> list[dict]:
+    """PyBullet's cloth and dressbench's whole env step on the same gown, in one run.
+
+    Both sides simulate the same span, ``steps`` policy steps of dressbench (0.04 s each);
+    PyBullet in env steps of 0.1 s. Each row has ``sim_seconds_per_second`` (simulated seconds
+    per wall second); dressbench's row also has ``times_pybullet``, the ratio of the two.
+    ``self_collision=False`` turns off PyBullet's cloth-cloth collisions, which Assistive Gym
+    keeps on and dressbench's cloth does not have.
+    """
+    check_inputs(vertices, steps, device, repeats)
+    pybullet_steps = max(1, math.ceil(steps * POLICY_DT / PYBULLET_ENV_DT - 1e-9))
+    theirs = bench_pybullet(vertices, pybullet_steps, repeats, self_collision)
+    ours = bench_env(vertices, steps, device, repeats)
+    ours["sim_seconds_per_second"] = round(steps * POLICY_DT / ours["seconds"], 3)
+    ours["times_pybullet"] = round(
+        ours["sim_seconds_per_second"] / theirs["sim_seconds_per_second"], 2
+    )
+    return [theirs, ours]
+
+
+def bench_pybullet(
+    vertices: int, steps: int, repeats: int = 3, self_collision: bool = True
+) -> dict:
+    """Time PyBullet's soft-body cloth on dressbench's gown (``vertices``), held at the grip
+    points dressbench's gripper holds, for ``steps`` env steps of Assistive Gym's dressing
+    schedule; the fastest of ``repeats`` consecutive runs, after an untimed settle."""
+    p = pybullet_module()
+    check_gown_vertices(vertices, "vertices")
+    check_int(steps, "steps", 1)
+    check_int(repeats, "repeats", 1)
+    gown = make_gown(GownConfig(target_vertices=vertices))
+    positions = transform_points(BENCH_GRIPPER, gown.positions)
+    client = p.connect(p.DIRECT)
+    try:
+        with tempfile.TemporaryDirectory(prefix="dressbench-gown-") as folder:
+            obj = write_obj(gown, Path(folder) / "gown.obj", positions)
+            cloth = _pybullet_world(p, client, gown, obj, positions, self_collision)
+        _pybullet_frames(p, client, PYBULLET_SETTLE_FRAMES)
+        seconds = min(
+            _timed(lambda: _pybullet_frames(p, client, steps * PYBULLET_FRAMES))
+            for _ in range(repeats)
+        )
+        held = _pybullet_positions(p, client, cloth)
+    finally:
+        p.disconnect(client)
+    failed = not np.all(np.isfinite(held))
+    row = _row(gown.num_vertices, "pybullet", steps, seconds, failed)
+    row["sim_seconds_per_second"] = round(steps * PYBULLET_ENV_DT / seconds, 3)
+    row["self_collision"] = self_collision
+    return row
+
+
+def _pybullet_world(
+    p: Any, client: int, gown: Gown, obj: Path, positions: np.ndarray, self_collision: bool
+) -> int:
+    """A deformable world stepping on Assistive Gym's schedule, holding the gown (``obj``, at
+    ``positions``) by its sleeve opening: each grip vertex anchored to a still, massless body at
+    the gripper, as Assistive Gym anchors its gown to the end effector."""
+    p.resetSimulation(p.RESET_USE_DEFORMABLE_WORLD, physicsClientId=client)
+    p.setTimeStep(PYBULLET_FRAME_DT, physicsClientId=client)
+    p.setPhysicsEngineParameter(numSubSteps=PYBULLET_SUBSTEPS, physicsClientId=client)
+    p.setGravity(0.0, 0.0, -9.81, physicsClientId=client)
+    settings = PYBULLET_CLOTH | {"useSelfCollision": int(self_collision)}
+    cloth = p.loadSoftBody(str(obj), mass=gown.total_mass, physicsClientId=client, **settings)
+    loaded = _pybullet_positions(p, client, cloth)
+    if loaded.shape != positions.shape or not np.allclose(loaded, positions, atol=1e-4):
+        # the anchors below index dressbench's vertices: PyBullet must keep the OBJ's order
+        raise RuntimeError(f"PyBullet did not load the gown's {gown.num_vertices} vertices "
+                           f"in order ({len(loaded)} loaded)")  # fmt: skip
+    grip = BENCH_GRIPPER[:3]
+    gripper = p.createMultiBody(baseMass=0.0, basePosition=grip.tolist(), physicsClientId=client)
+    for vertex in np.sort(gown.feature_loop):  # the pinned vertices of dressbench's Scene
+        offset = (loaded[vertex] - grip).tolist()
+        p.createSoftBodyAnchor(cloth, int(vertex), gripper, -1, offset, physicsClientId=client)
+    return cloth
+
+
+def _pybullet_frames(p: Any, client: int, frames: int) -> None:
+    """Step PyBullet's world ``frames`` frames (each ``PYBULLET_SUBSTEPS`` substeps)."""
+    for _ in range(frames):
+        p.stepSimulation(physicsClientId=client)
+
+
+def _pybullet_positions(p: Any, client: int, cloth: int) -> np.ndarray:
+    """The cloth's simulated vertex positions, (V, 3), in the OBJ's vertex order."""
+    _, points = p.getMeshData(cloth, -1, flags=p.MESH_DATA_SIMULATION_MESH,
+                              physicsClientId=client)  # fmt: skip
+    return np.asarray(points, dtype=float)
+
+
+def _timed(run) -> float:
+    """Wall seconds ``run()`` takes."""
+    start = time.perf_counter()
+    run()
+    return time.perf_counter() - start
 
 
 def _best_time(run, repeats: int) -> float:

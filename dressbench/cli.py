@@ -97,27 +97,81 @@ def main() -> None:
 @click.option("--quick", is_flag=True, help="Only the default resolution, 100 steps.")
 @click.option("--device", default="cpu", show_default=True, callback=_checked("check_device"),
               help="Warp device for the cloth.")  # fmt: skip
+@click.option("--compare", type=click.Choice(["pybullet"]), default=None,
+              help="Instead: PyBullet's cloth on the same gown (default 4,000 vertices) beside "
+                   "the env step, in simulated seconds per wall second.")  # fmt: skip
+@click.option("--pybullet-self-collision/--no-pybullet-self-collision", default=True,
+              show_default=True,
+              help="PyBullet's cloth-cloth collisions (Assistive Gym's setting: on; dressbench's "
+                   "cloth has none).")  # fmt: skip
+@click.option("--train", "train_run", is_flag=True,
+              help="Instead: a short training run (the default recipe, one env process per "
+                   "core, on the CPU) beside the env step.")  # fmt: skip
+@click.option("--train-steps", default=8192, show_default=True, callback=_at_least(1),
+              help="Environment steps of the --train run.")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
 def bench(
-    vertices: tuple[int, ...], steps: int, repeats: int, quick: bool, device: str, as_json: bool
+    vertices: tuple[int, ...],
+    steps: int,
+    repeats: int,
+    quick: bool,
+    device: str,
+    compare: str | None,
+    pybullet_self_collision: bool,
+    train_run: bool,
+    train_steps: int,
+    as_json: bool,
 ) -> None:
-    """Time the cloth alone, the whole scene step and the env step (one process, one core)."""
-    from .bench import bench_scene
+    """Time the cloth alone, the whole scene step and the env step (one process, one core);
+    with --compare or --train, those comparisons instead (docs/benchmark.md)."""
+    from .bench import bench_scene, compare_pybullet, pybullet_module
 
-    sizes = vertices or ((2000,) if quick else (1000, 2000, 4000))
+    if compare:
+        try:
+            pybullet_module()
+        except ImportError as error:
+            raise click.ClickException(str(error)) from None
+    if train_run:
+        _require_train_extra()
     steps = 100 if quick else steps
-    if not as_json:
-        click.echo(f"{'vertices':>8} {'what':>6} {'steps/s':>9} {'ms/step':>9}")
-    for n in sizes:
-        for row in bench_scene(n, steps, device, repeats):
-            if as_json:
-                click.echo(json.dumps(row))
-            else:
-                flag = "  (sim failure)" if row["sim_failure"] else ""
-                click.echo(
-                    f"{row['vertices']:>8} {row['what']:>6} {row['steps_per_second']:>9.1f}"
-                    f" {row['ms_per_step']:>9.3f}{flag}"
-                )
+
+    def show(row: dict) -> None:
+        if as_json:
+            click.echo(json.dumps(row))
+            return
+        sim = f" {row['sim_seconds_per_second']:>9.3f}" if "sim_seconds_per_second" in row else ""
+        flag = "  (sim failure)" if row["sim_failure"] else ""
+        click.echo(f"{row['vertices']:>8} {row['what']:>8} {row['steps_per_second']:>9.1f}"
+                   f" {row['ms_per_step']:>9.3f}{sim}{flag}")  # fmt: skip
+
+    def say(line: str) -> None:
+        if not as_json:
+            click.echo(line)
+
+    say(
+        f"{'vertices':>8} {'what':>8} {'steps/s':>9} {'ms/step':>9}"
+        + (f" {'sim s/s':>9}" * bool(compare))
+    )
+    if compare:
+        for n in vertices or (4000,):
+            theirs, ours = compare_pybullet(n, steps, device, repeats, pybullet_self_collision)
+            show(theirs)
+            show(ours)
+            say(f"dressbench / PyBullet, simulated seconds per wall second: "
+                f"{ours['times_pybullet']:.1f}x")  # fmt: skip
+    if train_run:
+        from .training.bench import bench_training
+
+        for n in vertices or (2000,):
+            single, run = bench_training(n, train_steps, steps, repeats)
+            show(single)
+            show(run)
+            say(f"training: {100 * run['share_of_cores']:.0f}% of {run['envs']} cores x the env "
+                f"step (issue 12's target: 85%)")  # fmt: skip
+    if not (compare or train_run):
+        for n in vertices or ((2000,) if quick else (1000, 2000, 4000)):
+            for row in bench_scene(n, steps, device, repeats):
+                show(row)
 
 
 @main.command()

@@ -11,7 +11,7 @@ PYTHON=${PYTHON:-python3}
 # The CPU build of torch lies on this machine's disk; install it first so nothing else pulls
 # a multi-gigabyte CUDA build.
 .venv/bin/python -m pip install -q torch==2.13.0
-.venv/bin/python -m pip install -q -e ".[dev,train,ray]"
+.venv/bin/python -m pip install -q -e ".[dev,train,ray,compare]"
 # The example third-party plugin package (plugins/), installed as a user would install theirs
 .venv/bin/python -m pip install -q -e plugins/dressbench-arc
 if [ "${1:-}" != "--no-run" ]; then

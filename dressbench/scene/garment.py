@@ -11,11 +11,15 @@ towards -x.  See docs/garment.md for the dimensions and the design choices.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
+
+from ..files import write_text
 
 FRONT, BACK, SEAM = 0, 1, 2  # values of Gown.sheet (SEAM: vertex shared by both sheets)
 BODY, RIGHT_SLEEVE, LEFT_SLEEVE = 0, 1, 2  # values of Gown.region
@@ -447,3 +451,19 @@ def make_gown(config: GownConfig | None = None) -> Gown:
         loop_rest_length=loop_len,
         config=cfg,
     )
+
+
+def write_obj(gown: Gown, path: str | os.PathLike, positions: np.ndarray | None = None) -> Path:
+    """Write the gown as a Wavefront OBJ (vertices in dressbench's order, 1-based triangles),
+    so another simulator (``dressbench bench --compare pybullet``) loads the same garment.
+
+    ``positions`` (V, 3) places it (e.g. held at a gripper pose); default: ``gown.positions``.
+    """
+    points = gown.positions if positions is None else np.asarray(positions, dtype=float)
+    if points.shape != gown.positions.shape:
+        raise ValueError(f"positions must have shape {gown.positions.shape}, got {points.shape}")
+    vertices = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in points]
+    faces = [f"f {a} {b} {c}" for a, b, c in gown.triangles + 1]
+    header = f"# dressbench gown: {gown.num_vertices} vertices, {gown.num_triangles} triangles"
+    write_text(path, "\n".join([header, *vertices, *faces]) + "\n")
+    return Path(path)
