@@ -313,3 +313,33 @@ def test_the_readme_of_a_results_folder_says_how_to_remake_it_and_lists_what_is_
     assert result.exit_code == 0, result.output
     assert (tmp_path / "leaderboard.csv").read_bytes() == before  # the same table, from the cache
     assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0
+
+
+def test_a_finished_cell_is_archived_and_reused_on_a_machine_without_the_rollout_cache(tmp_path):
+    first = evaluate("fixed", "random", episodes=3, workers=1, out=tmp_path / "a", **TINY)
+    archives = list((tmp_path / "a" / "cells").glob("fixed__random-*-seed0.npz"))
+    assert len(archives) == 1
+    (tmp_path / "b" / "cells").mkdir(parents=True)  # only the committed archive travels
+    archives[0].rename(tmp_path / "b" / "cells" / archives[0].name)
+
+    again = evaluate("fixed", "random", episodes=3, workers=1, out=tmp_path / "b", **TINY)
+    assert json.loads((tmp_path / "b" / "run_meta.json").read_text())["episodes_run"] == 0
+    pd.testing.assert_frame_equal(first, again)
+    assert _files(tmp_path / "a") == _files(tmp_path / "b")  # curves too: exact to the bit
+
+    fewer = evaluate("fixed", "random", episodes=2, workers=1, out=tmp_path / "b", **TINY)
+    pd.testing.assert_frame_equal(fewer, first.head(2))
+    evaluate("fixed", "random", episodes=4, workers=1, out=tmp_path / "b", **TINY)
+    assert json.loads((tmp_path / "b" / "run_meta.json").read_text())["episodes_run"] == 1
+
+
+def test_an_unreadable_archive_is_ignored_with_a_notice_and_its_episodes_run(tmp_path, capsys):
+    evaluate("fixed", "passive", episodes=2, workers=1, out=tmp_path, **TINY)
+    (archive,) = (tmp_path / "cells").iterdir()
+    archive.write_bytes(b"not an archive")
+    for record in (tmp_path / "rollouts").rglob("*.json"):
+        record.unlink()
+    evaluate("fixed", "passive", episodes=2, workers=1, out=tmp_path, **TINY)
+    assert f"ignored {archive}: unreadable" in capsys.readouterr().err
+    assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 2
+    assert archive.read_bytes()[:2] == b"PK"  # written anew, as a zip of arrays

@@ -25,6 +25,9 @@ _FILES = {
     "final_scores.png": "bars of final arm progress and max deformation per cell",
     "curves_{robot}.png": "arm progress and max deformation over the episode, one robot strategy",
     "report": "a web page of the leaderboard with one rollout video per cell (`dressbench report`)",
+    "cells": "one compact archive per finished cell (its identity, every episode's curves and "
+    "scores): committed, so an evaluation on another machine reuses the cells instead of "
+    "running them again",
     "rollouts": "the resume cache, one record per rollout (not committed: `.gitignore`)",
 }
 

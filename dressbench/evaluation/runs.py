@@ -6,6 +6,7 @@ import os
 import time
 from collections import Counter
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -17,6 +18,7 @@ from ..checks import check_episodes, check_folder, check_processes, check_seed
 from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
+from .archive import load_archive, save_archive
 from .cells import Cell, checked_pair, leaderboard_cells, make_cell
 from .remote import ray_tasks
 from .report import stage_definitions, success_definition, write_summary
@@ -138,7 +140,9 @@ def evaluate_cells(
     tasks = [
         Task(cell, seed, episode, success_depth) for cell in cells for episode in range(episodes)
     ]
-    done = {task: record for task in tasks if (record := load_record(out, task)) is not None}
+    done = _archived(out, cells, seed, tasks)
+    done |= {task: record for task in tasks if task not in done
+             and (record := load_record(out, task)) is not None}  # fmt: skip
     pending = [task for task in tasks if task not in done]
     found = {task.cell for task in done}
     report_earlier_rollouts(out, [cell for cell in cells if cell not in found])
@@ -158,11 +162,14 @@ def evaluate_cells(
                 left[task.cell] -= 1
                 if not left[task.cell]:  # the table once per finished cell, not per episode
                     write_csv(out / "episodes.csv", _episodes_table(tasks, done))
+                    _archive(out, task.cell, seed, episodes, success_depth, done)
                 bar.update()
         except BaseException:  # interrupted or failed: the table shows what finished
             write_csv(out / "episodes.csv", _episodes_table(tasks, done))
             raise
     elapsed = time.perf_counter() - clock
+    for cell in cells:  # cells found whole in rollouts/ from an earlier run get theirs too
+        _archive(out, cell, seed, episodes, success_depth, done)
     table = _episodes_table(tasks, done)
     write_csv(out / "episodes.csv", table)
     curves = curve_table(
@@ -202,6 +209,34 @@ def evaluate_cells(
     }
     write_summary(out, curves, board, meta, success_depth)
     return table, board
+
+
+def _archived(
+    out: Path, cells: Sequence[Cell], seed: int, tasks: Sequence[Task]
+) -> dict[Task, EpisodeRecord]:
+    """The tasks whose episodes a cell archive holds (``archive.py``), judged at each task's
+    success depth."""
+    found = {cell: load_archive(out, cell, seed) for cell in cells}
+    return {
+        task: replace(found[task.cell][task.episode], success_depth=task.success_depth)
+        for task in tasks
+        if task.episode < len(found[task.cell])
+        and found[task.cell][task.episode].episode_seed == task.episode_seed
+    }
+
+
+def _archive(
+    out: Path,
+    cell: Cell,
+    seed: int,
+    episodes: int,
+    success_depth: float,
+    done: dict[Task, EpisodeRecord],
+) -> None:
+    """Archive a cell whose episodes are all done."""
+    records = [done.get(Task(cell, seed, episode, success_depth)) for episode in range(episodes)]
+    if all(record is not None for record in records):
+        save_archive(out, cell, seed, records)
 
 
 def _episodes_table(tasks: Sequence[Task], done: dict[Task, EpisodeRecord]) -> pd.DataFrame:

@@ -31,7 +31,7 @@ OLD_LAYOUT = "cfg-*"  # folders of records made before they carried an identity
 
 def cell_folder(out: Path, cell: Cell) -> Path:
     """Where the records of ``cell`` live: readable names, then the hash of its identity."""
-    return out / ROLLOUTS / f"{_pair(cell)}-{cell.key}"
+    return out / ROLLOUTS / f"{pair_name(cell)}-{cell.key}"
 
 
 def record_path(out: Path, task: Task) -> Path:
@@ -83,7 +83,7 @@ def report_earlier_rollouts(out: Path, fresh: Sequence[Cell]) -> None:
     if not fresh or not root.is_dir():
         return
     for cell in fresh:
-        for folder in sorted(root.glob(f"{_pair(cell)}-*")):
+        for folder in sorted(root.glob(f"{pair_name(cell)}-*")):
             if folder != cell_folder(out, cell):
                 change = _change(folder, cell)
                 if change:
@@ -104,7 +104,7 @@ def notice(message: str) -> None:
     print(f"dressbench: {message}", file=sys.stderr, flush=True)
 
 
-def _pair(cell: Cell) -> str:
+def pair_name(cell: Cell) -> str:
     """``robot__human``, made safe as a file name (names that differ may give the same pair)."""
     return f"{slug(cell.robot)}__{slug(cell.human)}"
 
