@@ -285,12 +285,14 @@ def train(
 ) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     import shutil
+    import signal
 
     _require_train_extra()
 
     from .training import TrainConfig
     from .training import train as train_policy
     from .training.curriculum import CurriculumConfig
+    from .training.run import TrainingStopped
     from .training.warmup import WarmupConfig
 
     if curriculum is not None:
@@ -304,7 +306,12 @@ def train(
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:
         shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
-    path = train_policy(config)
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # `kill` stops it like Ctrl-C
+    try:
+        path = train_policy(config)
+    except TrainingStopped as stopped:
+        click.echo(f"dressbench: {stopped}", err=True)
+        raise SystemExit(130) from None
     click.echo(f"policy written to {path}")
 
 

@@ -7,6 +7,7 @@ import subprocess
 import sys
 import time
 from dataclasses import asdict, replace
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -225,3 +226,25 @@ def test_a_run_folder_moved_to_another_place_resumes_there(tmp_path):
     assert json.loads(path.read_text())["steps"] == 512
     steps = pd.read_csv(folder / "logs" / "progress-history.csv")["time/total_timesteps"]
     assert steps.max() == 256  # the first session's log was kept, its steps not trained again
+
+
+def test_a_stopped_training_saves_its_checkpoint_where_it_stopped_and_says_so(tmp_path):
+    """`kill` (SIGTERM) or Ctrl-C: the checkpoint is saved at that step, one line says how to
+    go on, and nothing trained is lost."""
+    where = ["--out", str(tmp_path / "runs"), "--policies", str(tmp_path / "policies")]
+    tiny = ["--gown-vertices", "600", "--envs", "1"]
+    command = [str(Path(sys.executable).parent / "dressbench"), "train", "--robot", "fixed",
+               "--timesteps", "100000", "--name", "stopped", *where, *tiny]  # fmt: skip
+    worker = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    log = tmp_path / "runs" / "stopped" / "logs" / "progress.csv"
+    deadline = time.time() + 300
+    while not (log.exists() and log.stat().st_size > 0):  # a first update has been made
+        assert worker.poll() is None and time.time() < deadline
+        time.sleep(0.2)
+    worker.send_signal(signal.SIGTERM)
+    _, errors = worker.communicate(timeout=120)
+    assert worker.returncode == 130
+    saved = json.loads((tmp_path / "runs" / "stopped" / "checkpoint.json").read_text())
+    assert 4096 <= saved["timesteps"] < 20_000  # past the first update, before a periodic save
+    assert f"training stopped at {saved['timesteps']:,} steps" in errors
+    assert "Traceback" not in errors

@@ -42,6 +42,16 @@ def train(config: TrainConfig | None = None, *, progress: bool = True, **options
     return TrainingRun(config).run(progress=progress)
 
 
+class TrainingStopped(KeyboardInterrupt):
+    """Training was interrupted; its checkpoint was saved at the step it stopped at."""
+
+    def __init__(self, folder: Path, steps: int) -> None:
+        super().__init__(f"training stopped at {steps:,} steps; its checkpoint in {folder} is "
+                         f"saved: run the same command again to resume, or with --timesteps "
+                         f"{steps} to export the policy as it is")  # fmt: skip
+        self.steps = steps
+
+
 class TrainingRun:
     """The files of one run in ``out/NAME/`` and the steps that produce them."""
 
@@ -95,14 +105,21 @@ class TrainingRun:
                 if self.config.warmup is not None:
                     steps.append(Warmup(self.config.warmup))
                 callbacks = CallbackList(steps)
-                model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
+                try:
+                    model.learn(remaining, callback=callbacks, reset_num_timesteps=done == 0)
+                except KeyboardInterrupt:  # Ctrl-C (or SIGTERM in the CLI): keep every update
+                    self.save_checkpoint(model)
+                    raise TrainingStopped(self.folder, int(model.num_timesteps)) from None
                 self.save_checkpoint(model)
             steps = int(model.num_timesteps)
             run_json["result"] = self._summarize(steps)
             write_json(self.folder / "run.json", run_json)
             return self.export(model)
         finally:
-            venv.close()
+            try:
+                venv.close()
+            except (BrokenPipeError, EOFError):  # workers a terminal's Ctrl-C already stopped
+                pass
 
     def _envs(self) -> VecNormalize:
         cfg = self.config
