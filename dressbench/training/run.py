@@ -300,7 +300,7 @@ class _Progress(BaseCallback):
     def __init__(self, done: int, total: int, enabled: bool) -> None:
         super().__init__()
         self.done, self.total, self.enabled = done, total, enabled
-        self.recent: deque[tuple[float, float]] = deque(maxlen=20)
+        self.recent: deque[tuple[float, float, float]] = deque(maxlen=20)
 
     def _on_training_start(self) -> None:
         self.bar = tqdm(total=self.total, initial=self.done, unit="step", disable=not self.enabled,
@@ -311,11 +311,13 @@ class _Progress(BaseCallback):
         for info in self.locals.get("infos", []):
             if "episode" in info:
                 episode = info["episode"]
-                self.recent.append((float(episode["arm_progress"]), float(episode["sim_failure"])))
+                scores = ("arm_progress", "max_deformation", "sim_failure")
+                self.recent.append(tuple(float(episode[score]) for score in scores))
         if self.recent:
-            progress, failures = np.mean(self.recent, axis=0)
+            progress, deformation, failures = np.mean(self.recent, axis=0)
             self.bar.set_postfix(arm_progress=f"{progress:.3f}", refresh=False)
             self.logger.record("rollout/final_arm_progress", progress)
+            self.logger.record("rollout/max_deformation", deformation)
             self.logger.record("rollout/sim_failure_rate", failures)
         return True
 

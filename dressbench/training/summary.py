@@ -19,6 +19,7 @@ STEPS = "time/total_timesteps"
 PANELS = (  # column of progress.csv, title, axis label
     ("rollout/ep_rew_mean", "episode return", "mean of the last 100 episodes"),
     ("rollout/final_arm_progress", "final arm progress", "m, mean of recent episodes"),
+    ("rollout/max_deformation", "max deformation", "area ratio, mean of recent episodes"),
     ("rollout/sim_failure_rate", "simulation failures", "share of recent episodes"),
 )
 
@@ -48,8 +49,8 @@ def training_seconds(table: pd.DataFrame) -> float:
 
 
 def learning_figure(table: pd.DataFrame, title: str) -> Figure:
-    """Return, final arm progress and failure rate against environment steps, side by side."""
-    figure = Figure(figsize=(13, 3.8), layout="constrained")
+    """Return, final arm progress, max deformation and failure rate against environment steps."""
+    figure = Figure(figsize=(4.3 * len(PANELS), 3.8), layout="constrained")
     for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
         if column in table:
             axes.plot(table[STEPS], table[column])
