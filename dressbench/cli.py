@@ -12,6 +12,8 @@ from typing import Any
 
 import click
 
+from .scene.actuation import ACTUATIONS
+
 
 class _Commands(click.Group):
     """Bad input (an unknown plugin, a broken policy file, a bad value) ends in one line."""
@@ -268,6 +270,12 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     "--warmup/--no-warmup",
     default=None,
     help="Bring the deformation term in after the first steps (default: the recipe's).",
+)
+@click.option(
+    "--actuation",
+    type=click.Choice(ACTUATIONS),
+    default=None,
+    help="What an action drives: PD targets, moves of them, torques (default: the recipe's).",
 )
 @click.option(
     "--haptics",

@@ -28,6 +28,7 @@ from safetensors import SafetensorError
 
 from .observation import HAPTIC_SCALES, scale_haptics
 from .plugins.protocols import HUMAN_ACTION_SIZE
+from .scene.actuation import ACTUATIONS
 
 if TYPE_CHECKING:
     pass
@@ -363,7 +364,7 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
 # Fields a version-1 JSON may leave out (older files): checked only where present.
 _OPTIONAL_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("haptics",), lambda v: v in HAPTIC_SCALES, " or ".join(map(repr, HAPTIC_SCALES))),
-    (("actuation",), lambda v: v in ("pd", "torque"), "'pd' or 'torque'"),
+    (("actuation",), lambda v: v in ACTUATIONS, " or ".join(map(repr, ACTUATIONS))),
 )
 
 

@@ -115,3 +115,24 @@ def test_an_external_force_moves_the_body(human):
     human.reset()
     rest_z = human.arm_chain(human.body_transforms())[0, 2]
     assert tip_z > rest_z + 0.01
+
+
+def test_a_delta_action_moves_the_pd_target_and_doing_nothing_holds_the_start_pose():
+    held = {}
+    for actuation in ("delta", "pd"):
+        human = Human(HumanConfig(actuation=actuation))
+        pose = human.outstretched()
+        human.reset(pose)
+        still = np.zeros((len(human.body_names), 3))
+        for _ in range(25):  # one second of zero actions, 4 frames each
+            human.set_action(np.zeros(human.N_ACTIONS))
+            for _ in range(4):
+                human.step(still, still)
+        held[actuation] = np.abs(human.q - pose).max()
+    assert held["delta"] < 0.05 and held["pd"] > 1.0  # an absolute zero target is rest
+    human = Human(HumanConfig(actuation="delta"))
+    before = human.target.copy()
+    human.set_action(np.ones(human.N_ACTIONS))
+    moved = (human.target - before)[human.actuated_index]
+    room = (human.upper - before)[human.actuated_index]
+    assert np.allclose(moved, np.minimum(human.delta_step, room))  # 0.12 rad, or to the limit

@@ -248,3 +248,12 @@ def test_a_stopped_training_saves_its_checkpoint_where_it_stopped_and_says_so(tm
     assert 4096 <= saved["timesteps"] < 20_000  # past the first update, before a periodic save
     assert f"training stopped at {saved['timesteps']:,} steps" in errors
     assert "Traceback" not in errors
+
+
+def test_a_human_trained_to_move_its_targets_is_scored_moving_them(tmp_path, policies_on_path):
+    path = train(tiny_config(tmp_path, timesteps=64, name="mover", actuation="delta"),
+                 progress=False)  # fmt: skip
+    assert json.loads(path.read_text())["actuation"] == "delta"
+    plugins.refresh()
+    config = make_cell("fixed", "mover", gown_vertices=600, horizon=8).config()
+    assert config.scene.human.actuation == "delta"

@@ -12,7 +12,9 @@ from dataclasses import dataclass
 import dartpy as dart
 import numpy as np
 
+from .actuation import check_actuation
 from .body import BODY, N_ACTIONS, N_DOFS, JointSpec
+from .clock import POLICY_DT
 from .geometry import rotation_z_to
 
 _ORIGIN = np.zeros(3)
@@ -22,9 +24,7 @@ _ORIGIN = np.zeros(3)
 class HumanConfig:
     """How the human is actuated; see docs/human.md for the mapping."""
 
-    actuation: str = (
-        "pd"  # "pd": action = absolute PD target around rest; "torque": action x 10 N m
-    )
+    actuation: str = "pd"  # one of actuation.ACTUATIONS
     kp: float = 100.0  # computed-torque PD gains (critically damped: kd = 2 sqrt(kp))
     kd: float = 20.0
     max_speed: float = 3.0  # rad/s: the PD never asks a joint to move faster (see docs)
@@ -40,8 +40,7 @@ class Human:
     N_ACTIONS = N_ACTIONS
 
     def __init__(self, config: HumanConfig = HumanConfig(), dt: float = 0.01) -> None:
-        if config.actuation not in ("pd", "torque"):
-            raise ValueError(f"unknown actuation {config.actuation!r}: use 'pd' or 'torque'")
+        check_actuation(config.actuation)
         self.config = config
         self.skeleton, self._bodies = _build_skeleton(config.specs)
         self.world = dart.simulation.World()
@@ -84,11 +83,13 @@ class Human:
 
     # ----------------------------------------------------------------------------- state
     def reset(self, q: np.ndarray | None = None) -> None:
-        """Put the body at rest (or at ``q``), motionless, with the PD target at rest."""
-        self.skeleton.setPositions(self.rest if q is None else np.asarray(q, dtype=float))
+        """Put the body at rest (or at ``q``), motionless, with the PD target at rest (at the
+        pose itself when actions move the target, so that doing nothing holds it)."""
+        pose = self.rest if q is None else np.asarray(q, dtype=float)
+        self.skeleton.setPositions(pose)
         self.skeleton.setVelocities(np.zeros(self.N_DOFS))
         self.skeleton.clearExternalForces()
-        self.target = self.rest.copy()
+        self.target = (pose if self.config.actuation == "delta" else self.rest).copy()
         self._torque_action[:] = 0.0
         self.world.reset()
         # a fresh detector: Bullet keeps contact manifolds between queries, which would let
@@ -158,7 +159,16 @@ class Human:
             return
         i = self.actuated_index
         rest, lo, hi = self.rest[i], self.lower[i], self.upper[i]
+        if self.config.actuation == "delta":
+            self.target[i] = np.clip(self.target[i] + a * self.delta_step, lo, hi)
+            return
         self.target[i] = np.where(a >= 0.0, rest + a * (hi - rest), rest + a * (rest - lo))
+
+    @property
+    def delta_step(self) -> float:
+        """How far (rad) a full "delta" action moves a target: as far as the PD's speed limit
+        lets a joint follow in one policy step."""
+        return self.config.max_speed * POLICY_DT
 
     def outstretched(self) -> np.ndarray:
         """The rest pose with the right arm straight ahead at shoulder height, elbow straight."""

@@ -15,6 +15,7 @@ from ..checks import (
     check_seed,
 )
 from ..observation import check_haptic_scale
+from ..scene.actuation import check_actuation
 from .curriculum import CurriculumConfig
 from .warmup import WarmupConfig
 
@@ -40,7 +41,7 @@ class TrainConfig:
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
-    actuation: str = "pd"  # the human's action: PD targets, or the paper's torques ("torque")
+    actuation: str = "pd"  # the human's action: PD targets, moves of them ("delta"), or torques
     haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
     # added to each feature's running variance when normalising (VecNormalize's epsilon): a
     # floor of 0.32 on the std, so a feature that barely varied (an untouched sensor, a still
@@ -57,8 +58,7 @@ class TrainConfig:
     def __post_init__(self) -> None:
         if self.algo not in ALGORITHMS:
             raise ValueError(f"unknown algorithm {self.algo!r}: choose one of {ALGORITHMS}")
-        if self.actuation not in ("pd", "torque"):
-            raise ValueError(f"unknown actuation {self.actuation!r}: use 'pd' or 'torque'")
+        check_actuation(self.actuation)
         check_haptic_scale(self.haptics)
         check_int(self.timesteps, "timesteps", 1)
         check_processes(self.envs, "envs", zero="one per core")
