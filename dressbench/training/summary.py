@@ -52,8 +52,10 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     """Return, final arm progress, max deformation and failure rate against environment steps."""
     figure = Figure(figsize=(4.3 * len(PANELS), 3.8), layout="constrained")
     for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
-        if column in table:
+        if column in table and table[column].notna().any():
             axes.plot(table[STEPS], table[column])
+        else:  # a run logged before this column existed
+            axes.text(0.5, 0.5, "not logged in this run", ha="center", transform=axes.transAxes)
         axes.set(title=name, xlabel="environment steps", ylabel=unit)
         axes.grid(alpha=0.3)
     figure.suptitle(title)
