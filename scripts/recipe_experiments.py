@@ -19,12 +19,13 @@ RUNS = {  # learning summary stem: label
     "front_linear-complete-trpo-s0": "newtons, no floor (10-iteration cloth)",
     "front_linear-no_haptics-trpo-s0": "no_haptics ablation (10-iteration cloth)",
     "front_linear-complete-trpo-nofloor-s0": "log haptics, no floor",
-    "front_linear-complete-trpo-floor-s0": "log haptics + variance floor (default)",
+    "front_linear-complete-trpo-floor-s0": "log haptics + variance floor",
     "side_linear-complete-trpo-nofloor-s0": "side_linear: log haptics, no floor",
     "side_linear-complete-trpo-floor-s0": "side_linear: log haptics + variance floor",
-    "front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (default)",
+    "../front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (the default)",
     "side_linear-complete-trpo-warmup-s0": "side_linear: + r_d warm-up",
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
+    "side_linear-complete-trpo-delta-curriculum-s0": "side_linear: + warm-up, delta actions, curriculum",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 
