@@ -91,7 +91,8 @@ def _evaluation(meta: dict[str, Any], folder: Path) -> list[str]:
         f"at {_commit(meta)}, dressbench {versions.get('dressbench', '?')}: {_cells(meta)} "
         f"(base seed {meta['seed']}; finished cells in `cells/` and rollouts in `rollouts/` "
         f"are reused, so this run simulated {meta['episodes_run']} of them in "
-        f"{meta['elapsed_seconds'] / 60:.0f} min on {meta['workers']} {meta['backend']} workers, started {meta['started']}).", "",
+        f"{meta['elapsed_seconds'] / 60:.0f} min on {meta['workers']} {meta['backend']} "
+        f"workers, started {meta['started']}).", "",
         "| robot | human | ablation | the human is |", "|---|---|---|---|",
     ]  # fmt: skip
     for cell, plugin in zip(meta["cells"], meta["plugins"], strict=True):
