@@ -140,10 +140,13 @@ def evaluate_cells(
     tasks = [
         Task(cell, seed, episode, success_depth) for cell in cells for episode in range(episodes)
     ]
-    done = _archived(out, cells, seed, tasks)
-    done |= {task: record for task in tasks if task not in done
-             and (record := load_record(out, task)) is not None}  # fmt: skip
+    archived = _archived(out, cells, seed, tasks)
+    done = archived | {task: record for task in tasks if task not in archived
+                       and (record := load_record(out, task)) is not None}  # fmt: skip
     pending = [task for task in tasks if task not in done]
+    # cells whole in rollouts/ but not (wholly) archived: archived below; the running cells as
+    # they finish
+    unarchived = {t.cell for t in tasks if t not in archived} - {t.cell for t in pending}
     found = {task.cell for task in done}
     report_earlier_rollouts(out, [cell for cell in cells if cell not in found])
     if backend.is_ray:  # None: as many at once as the cluster has CPUs for
@@ -168,8 +171,9 @@ def evaluate_cells(
             write_csv(out / "episodes.csv", _episodes_table(tasks, done))
             raise
     elapsed = time.perf_counter() - clock
-    for cell in cells:  # cells found whole in rollouts/ from an earlier run get theirs too
-        _archive(out, cell, seed, episodes, success_depth, done)
+    for cell in cells:
+        if cell in unarchived:
+            _archive(out, cell, seed, episodes, success_depth, done)
     table = _episodes_table(tasks, done)
     write_csv(out / "episodes.csv", table)
     curves = curve_table(
