@@ -70,6 +70,22 @@ def _at_least(minimum: int) -> Callable[..., Any]:
     return _checked("check_int", minimum=minimum)
 
 
+def _cell_options(command: Callable[..., Any]) -> Callable[..., Any]:
+    """``--episodes``, ``--seed``, ``--workers``, ``--gown-vertices`` and ``--horizon`` of an
+    evaluation of many cells."""
+    options = [
+        click.option("--episodes", default=100, show_default=True, callback=_EPISODES),
+        click.option("--seed", default=0, show_default=True, callback=_SEED),
+        click.option("--workers", default=0, callback=_WORKERS,
+                     help="Parallel processes (default: one per core)."),
+        click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES),
+        click.option("--horizon", default=400, show_default=True, callback=_HORIZON),
+    ]  # fmt: skip
+    for option in reversed(options):
+        command = option(command)
+    return command
+
+
 def _backend_options(command: Callable[..., Any]) -> Callable[..., Any]:
     """``--backend local|ray`` and ``--address`` (docs/cluster.md)."""
     from .cluster import BACKENDS
@@ -427,12 +443,7 @@ def evaluate(
 
 
 @evaluate.command("leaderboard")
-@click.option("--episodes", default=100, show_default=True, callback=_EPISODES)
-@click.option("--seed", default=0, show_default=True, callback=_SEED)
-@click.option("--workers", default=0, callback=_WORKERS,
-              help="Parallel processes (default: one per core).")  # fmt: skip
-@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
-@click.option("--horizon", default=400, show_default=True, callback=_HORIZON)
+@_cell_options
 @click.option("--out", default="results", show_default=True, callback=_FOLDER)
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
@@ -461,12 +472,7 @@ def leaderboard_command(
 
 
 @evaluate.command("reproduce")
-@click.option("--episodes", default=100, show_default=True, callback=_EPISODES)
-@click.option("--seed", default=0, show_default=True, callback=_SEED)
-@click.option("--workers", default=0, callback=_WORKERS,
-              help="Parallel processes (default: one per core).")  # fmt: skip
-@click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
-@click.option("--horizon", default=400, show_default=True, callback=_HORIZON)
+@_cell_options
 @click.option("--out", default="results/reproduction", show_default=True, callback=_FOLDER)
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "

@@ -6,6 +6,8 @@ no display, safe in worker processes and notebooks alike.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
@@ -16,28 +18,34 @@ from .rollouts import SUCCESS_DEPTH
 
 def curves_figure(curves: pd.DataFrame, robot: str, success_depth: float = SUCCESS_DEPTH) -> Figure:
     """Mean ± std of arm progress and of max deformation over the steps, one line per human."""
-    figure = Figure(figsize=(11, 4.2), layout="constrained")
-    progress_axes, deformation_axes = figure.subplots(1, 2)
+    figure, (progress_axes, deformation_axes) = _curve_panels()
     for human, cell in curves[curves["robot"] == robot].groupby("human", sort=False):
         episodes = int(cell["episodes"].iloc[0])
-        for axes, metric in (
-            (progress_axes, "arm_progress"),
-            (deformation_axes, "max_deformation"),
-        ):
-            mean, std = cell[f"{metric}_mean"], cell[f"{metric}_std"].fillna(0.0)
-            (line,) = axes.plot(cell["step"], mean, label=f"{human} (n={episodes})")
-            axes.fill_between(
-                cell["step"], mean - std, mean + std, color=line.get_color(), alpha=0.2
-            )
+        _plot_cell((progress_axes, deformation_axes), cell, f"{human} (n={episodes})")
     progress_axes.axhline(success_depth, color="0.4", linestyle="--", linewidth=1, label="success")
+    progress_axes.legend(fontsize="small")
+    figure.suptitle(f"robot strategy: {robot} (mean ± std over episodes)")
+    return figure
+
+
+def _curve_panels() -> tuple[Figure, tuple[Any, Any]]:
+    """A figure with the arm progress and max deformation panels, titled and labelled."""
+    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    progress_axes, deformation_axes = figure.subplots(1, 2)
     progress_axes.set(title="arm progress", ylabel="depth into the sleeve (m)")
     deformation_axes.set(title="max deformation", ylabel="running max of triangle area ratio")
     for axes in (progress_axes, deformation_axes):
         axes.set_xlabel(f"policy step ({ROBOT_DT} s)")
         axes.grid(alpha=0.3)
-    progress_axes.legend(fontsize="small")
-    figure.suptitle(f"robot strategy: {robot} (mean ± std over episodes)")
-    return figure
+    return figure, (progress_axes, deformation_axes)
+
+
+def _plot_cell(panels: tuple[Any, Any], cell: pd.DataFrame, label: str) -> None:
+    """One cell's mean curves, ± std shaded, into the progress and deformation panels."""
+    for axes, metric in zip(panels, ("arm_progress", "max_deformation"), strict=True):
+        mean, std = cell[f"{metric}_mean"], cell[f"{metric}_std"].fillna(0.0)
+        (line,) = axes.plot(cell["step"], mean, label=label)
+        axes.fill_between(cell["step"], mean - std, mean + std, color=line.get_color(), alpha=0.2)
 
 
 def scores_figure(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> Figure:
@@ -75,24 +83,12 @@ def role_curves_figure(
 ) -> Figure:
     """The paper's Figs. 5 and 7: arm progress and max deformation over the episode (mean ± std),
     one line per (robot, human), the deformation threshold drawn."""
-    figure = Figure(figsize=(11, 4.2), layout="constrained")
-    progress_axes, deformation_axes = figure.subplots(1, 2)
+    figure, (progress_axes, deformation_axes) = _curve_panels()
     for robot, human in lines:
         cell = curves[(curves["robot"] == robot) & (curves["human"] == human)]
-        for axes, metric in (
-            (progress_axes, "arm_progress"),
-            (deformation_axes, "max_deformation"),
-        ):
-            mean, std = cell[f"{metric}_mean"], cell[f"{metric}_std"].fillna(0.0)
-            (line,) = axes.plot(cell["step"], mean, label=f"{human} on {robot}")
-            axes.fill_between(cell["step"], mean - std, mean + std, color=line.get_color(),
-                              alpha=0.2)  # fmt: skip
+        _plot_cell((progress_axes, deformation_axes), cell, f"{human} on {robot}")
     deformation_axes.axhline(limit, color="0.3", linestyle="--", linewidth=1, label="threshold")
-    progress_axes.set(title="arm progress", ylabel="depth into the sleeve (m)")
-    deformation_axes.set(title="max deformation", ylabel="running max of triangle area ratio")
     for axes in (progress_axes, deformation_axes):
-        axes.set_xlabel(f"policy step ({ROBOT_DT} s)")
-        axes.grid(alpha=0.3)
         axes.legend(fontsize="small")
     figure.suptitle(f"{title} (mean ± std over episodes)")
     return figure
