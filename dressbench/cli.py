@@ -477,11 +477,13 @@ def leaderboard_command(
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "
                    "the paper's policies).")  # fmt: skip
+@click.option("--doc", type=click.Path(dir_okay=False, exists=True),
+              help="Also rewrite this doc's results block (docs/reproduction.md).")  # fmt: skip
 @_backend_options
-def reproduce_command(episodes, seed, workers, gown_vertices, horizon, out, humans, backend,
+def reproduce_command(episodes, seed, workers, gown_vertices, horizon, out, humans, doc, backend,
                       address):  # fmt: skip
     """The paper's comparison: its five policies, the cross-play, a verdict per claim."""
-    from .evaluation.reproduction import paper_humans, reproduce
+    from .evaluation.reproduction import paper_humans, reproduce, write_doc_results
 
     claims = reproduce(episodes=episodes, seed=seed, workers=workers or None, out=out,
                        humans=paper_humans(humans or None), gown_vertices=gown_vertices,
@@ -489,6 +491,9 @@ def reproduce_command(episodes, seed, workers, gown_vertices, horizon, out, huma
     for claim in claims.itertuples():
         click.echo(f"claim {claim.claim}: {claim.verdict}")
     click.echo(f"claims in {out}/claims.md, figures in {out}/*.png")
+    if doc:
+        write_doc_results(doc, out)
+        click.echo(f"results block of {doc} rewritten from {out}")
 
 
 @main.command("report")

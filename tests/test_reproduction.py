@@ -7,6 +7,8 @@ import pytest
 
 from dressbench import plugins
 from dressbench.evaluation.reproduction import (
+    DOC_BEGIN,
+    DOC_END,
     FAILS,
     HOLDS,
     PARTLY,
@@ -14,8 +16,11 @@ from dressbench.evaluation.reproduction import (
     ROLES,
     UNMEASURED,
     claims_table,
+    doc_results,
+    documented_results,
     paper_humans,
     reproduce,
+    write_doc_results,
 )
 from dressbench.metrics import deformation_limit
 from dressbench.training import TrainConfig, train
@@ -97,13 +102,23 @@ def trained(tmp_path_factory):
     plugins.refresh()
 
 
-def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(trained):
+@pytest.fixture(scope="module")
+def compared(trained):
+    """The comparison of the tiny policies, 2 episodes a cell: its folder and claims."""
+    out = trained / "results"
+    claims = reproduce(episodes=2, workers=1, out=out, humans=paper_humans(), horizon=6,
+                       gown_vertices=600, progress=False)  # fmt: skip
+    return out, claims
+
+
+def test_the_trained_humans_play_the_roles_of_their_robot_and_ablation(trained):
     humans = paper_humans()
     assert humans[ROLES[0]] == ["fixed-complete-trpo-s0"]
     assert humans[ROLES[1]] == ["fixed-no_haptics-trpo-s0"] and humans[ROLES[2]] == []
-    out = trained / "results"
-    claims = reproduce(episodes=2, workers=1, out=out, humans=humans, horizon=6,
-                       gown_vertices=600, progress=False)  # fmt: skip
+
+
+def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(compared):
+    out, claims = compared
     assert claims.loc[claims["claim"] == 3, "verdict"].item() == UNMEASURED  # no no_task human
     cross = pd.read_csv(out / "cross_play.csv")
     assert sorted(zip(cross["human"], cross["robot"], strict=True)) == sorted(
@@ -119,6 +134,17 @@ def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(tr
     assert "| 3 |" in (out / "claims.md").read_text()
     assert json.loads((out / "run_meta.json").read_text())["command"] == "reproduce"
     assert "dressbench evaluate reproduce --episodes 2" in (out / "README.md").read_text()
+    assert "| no_task on fixed | none trained | 0 |" in (out / "roles.md").read_text()
+
+
+def test_a_docs_results_block_is_rewritten_from_the_csvs_and_the_rest_kept(compared, tmp_path):
+    out, _ = compared
+    doc = tmp_path / "reproduction.md"
+    doc.write_text(f"# Title\n\n{DOC_BEGIN}\nold numbers\n{DOC_END}\n\nWhere we differ.\n")
+    write_doc_results(doc, out)
+    assert documented_results(doc) == doc_results(out)
+    assert "old numbers" not in doc.read_text() and doc.read_text().endswith("Where we differ.\n")
+    assert "| 1 | the complete policy completes" in documented_results(doc)
 
 
 def test_a_human_that_plays_none_of_the_papers_policies_is_refused_by_name(trained):

@@ -2,9 +2,10 @@
 verdict on each read off the confidence intervals; plus the cross-play of every complete human
 against every built-in strategy.
 
-``reproduce`` evaluates the cells, then writes beside the usual result files: ``roles.csv``
-(the pooled numbers of each of the paper's policies, seeds pooled, with their spread across
-seeds), ``claims.csv`` / ``claims.md`` (each claim, its verdict and why), ``cross_play.csv``,
+``reproduce`` evaluates the cells, then writes beside the usual result files: ``roles.csv`` /
+``roles.md`` (the pooled numbers of each of the paper's policies, seeds pooled, with their
+spread across seeds), ``claims.csv`` / ``claims.md`` (each claim, its verdict and why),
+``cross_play.csv``,
 and the figures ``fig5_fixed_ablations.png``, ``fig6_final_scores.png``,
 ``fig7_linear_strategies.png`` and ``cross_play.png``.
 """
@@ -155,6 +156,7 @@ def write_comparison(
     write_csv(out / "roles.csv", roles)
     write_csv(out / "claims.csv", claims)
     write_text(out / "claims.md", claims_markdown(claims, limit))
+    write_text(out / "roles.md", roles_markdown(roles))
     write_csv(out / "cross_play.csv", cross)
     fixed = [role for role in ROLES if role.robot == "fixed"]
     linear = [role for role in ROLES if role.robot != "fixed"]
@@ -367,3 +369,70 @@ def claims_markdown(claims: pd.DataFrame, limit: float) -> str:
         f"| {r.claim} | {r.statement} | {r.verdict} | {r.because} |" for r in claims.itertuples()
     ]
     return "\n".join(lines) + "\n"
+
+
+def roles_markdown(roles: pd.DataFrame) -> str:
+    """The roles table in Markdown: each policy's pooled means with 95% intervals, the spread of
+    its seeds' means where it has several, and its stage rates."""
+    lines = [
+        "| policy | humans | episodes | final arm progress (m) | max deformation "
+        "| hand in | past the elbow |",
+        "|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for row in roles.itertuples():
+        if not row.episodes:
+            lines.append(f"| {row.role} | none trained | 0 | | | | |")
+            continue
+        cells = [
+            _mean_cell(row, "final_arm_progress", ".3f"),
+            _mean_cell(row, "max_deformation", ".2f"),
+            _rate_cell(row, "hand_in"),
+            _rate_cell(row, "success"),
+        ]
+        lines.append(f"| {row.role} | {row.humans} | {row.episodes} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _mean_cell(row: Any, metric: str, spec: str) -> str:
+    mean, low, high = (getattr(row, f"{metric}_{part}") for part in ("mean", "ci_low", "ci_high"))
+    text = f"{mean:{spec}} [{low:{spec}}, {high:{spec}}]"
+    spread = getattr(row, f"{metric}_seed_std")
+    return text if pd.isna(spread) else f"{text}, seeds' std {spread:{spec}}"
+
+
+def _rate_cell(row: Any, stage: str) -> str:
+    rate, low, high = (getattr(row, f"{stage}_{part}") for part in ("rate", "ci_low", "ci_high"))
+    return f"{rate:.0%} [{low:.0%}, {high:.0%}]"
+
+
+DOC_BEGIN = "<!-- begin results: written by `dressbench evaluate reproduce --doc` -->"
+DOC_END = "<!-- end results -->"
+
+
+def doc_results(out: str | os.PathLike) -> str:
+    """What docs/reproduction.md states of a comparison: its roles and claims tables, read from
+    the CSVs in ``out``."""
+    out = Path(out)
+    limit = deformation_limit(
+        RewardConfig().deformation_threshold, RewardConfig().deformation_scale
+    )
+    roles = pd.read_csv(out / "roles.csv", keep_default_na=False, na_values=[""])
+    claims = pd.read_csv(out / "claims.csv")
+    return roles_markdown(roles) + "\n" + claims_markdown(claims, limit)
+
+
+def documented_results(doc: str | os.PathLike) -> str:
+    """The results block of a doc: the text between its markers (ValueError without them)."""
+    text = Path(doc).read_text()
+    if DOC_BEGIN not in text or DOC_END not in text:
+        raise ValueError(f"{doc} has no results block ({DOC_BEGIN!r} ... {DOC_END!r})")
+    return text.split(DOC_BEGIN, 1)[1].split(DOC_END, 1)[0].strip("\n") + "\n"
+
+
+def write_doc_results(doc: str | os.PathLike, out: str | os.PathLike) -> None:
+    """Rewrite a doc's results block from the comparison in ``out``."""
+    text = Path(doc).read_text()
+    documented_results(doc)  # the markers are there
+    head, rest = text.split(DOC_BEGIN, 1)
+    tail = rest.split(DOC_END, 1)[1]
+    write_text(Path(doc), f"{head}{DOC_BEGIN}\n{doc_results(out)}{DOC_END}{tail}")

@@ -301,6 +301,7 @@ class _Progress(BaseCallback):
         super().__init__()
         self.done, self.total, self.enabled = done, total, enabled
         self.recent: deque[tuple[float, float, float]] = deque(maxlen=20)
+        self.rest_starts: deque[float] = deque(maxlen=20)  # progress of episodes begun at rest
 
     def _on_training_start(self) -> None:
         self.bar = tqdm(total=self.total, initial=self.done, unit="step", disable=not self.enabled,
@@ -313,6 +314,10 @@ class _Progress(BaseCallback):
                 episode = info["episode"]
                 scores = ("arm_progress", "max_deformation", "sim_failure")
                 self.recent.append(tuple(float(episode[score]) for score in scores))
+                if episode.get("near_start", 0.0) == 0.0:
+                    self.rest_starts.append(float(episode["arm_progress"]))
+        if self.rest_starts:
+            self.logger.record("rollout/rest_start_arm_progress", np.mean(self.rest_starts))
         if self.recent:
             progress, deformation, failures = np.mean(self.recent, axis=0)
             self.bar.set_postfix(arm_progress=f"{progress:.3f}", refresh=False)
