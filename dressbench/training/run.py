@@ -353,6 +353,8 @@ class CurriculumLevels(BaseCallback):
             self.recent.clear()
             self.training_env.env_method("set_reach", self.reach)
         self.logger.record("curriculum/reach", self.reach)
+        if self.recent:
+            self.logger.record("curriculum/hand_in_rate", float(np.mean(self.recent)))
         return True
 
 
