@@ -127,6 +127,8 @@ def main() -> None:
                    "core, on the CPU) beside the env step.")  # fmt: skip
 @click.option("--train-steps", default=8192, show_default=True, callback=_at_least(1),
               help="Environment steps of the --train run.")  # fmt: skip
+@click.option("--train-envs", default=0, callback=_WORKERS,
+              help="Env processes of the --train run (default: one per core).")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
 def bench(
     vertices: tuple[int, ...],
@@ -138,6 +140,7 @@ def bench(
     pybullet_self_collision: bool,
     train_run: bool,
     train_steps: int,
+    train_envs: int,
     as_json: bool,
 ) -> None:
     """Time the cloth alone, the whole scene step and the env step (one process, one core);
@@ -181,7 +184,7 @@ def bench(
         from .training.bench import bench_training
 
         for n in vertices or (2000,):
-            single, run = bench_training(n, train_steps, steps, repeats)
+            single, run = bench_training(n, train_steps, steps, repeats, train_envs)
             show(single)
             show(run)
             say(f"training: {100 * run['share_of_cores']:.0f}% of {run['envs']} cores x the env "
