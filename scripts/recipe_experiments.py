@@ -26,6 +26,7 @@ RUNS = {  # learning summary stem: label
     "side_linear-complete-trpo-warmup-s0": "side_linear: + r_d warm-up",
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
     "side_linear-complete-trpo-delta-curriculum-s0": "side_linear: + warm-up, delta actions, curriculum",
+    "fixed-complete-trpo-delta-curriculum-s0": "fixed: warm-up, delta actions, curriculum",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 

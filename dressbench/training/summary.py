@@ -22,6 +22,10 @@ PANELS = (  # column of progress.csv, title, axis label
     ("rollout/max_deformation", "max deformation", "area ratio, mean of recent episodes"),
     ("rollout/sim_failure_rate", "simulation failures", "share of recent episodes"),
 )
+# a second curve drawn in a panel where the run logged it: (panel's column, column, its label)
+OVERLAYS = (
+    ("rollout/final_arm_progress", "rollout/rest_start_arm_progress", "episodes begun at rest"),
+)
 
 
 def learning_table(run_folder: str | Path, until: int | None = None) -> pd.DataFrame:
@@ -53,7 +57,11 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     figure = Figure(figsize=(4.3 * len(PANELS), 3.8), layout="constrained")
     for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
         if column in table and table[column].notna().any():
-            axes.plot(table[STEPS], table[column])
+            axes.plot(table[STEPS], table[column], label="all episodes")
+            for _, extra, label in (o for o in OVERLAYS if o[0] == column):
+                if extra in table and table[extra].notna().any():
+                    axes.plot(table[STEPS], table[extra], label=label)
+                    axes.legend(fontsize=8)
         else:  # a run logged before this column existed
             axes.text(0.5, 0.5, "not logged in this run", ha="center", transform=axes.transAxes)
         axes.set(title=name, xlabel="environment steps", ylabel=unit)
