@@ -73,7 +73,9 @@ def test_the_paper_recipe_trains_torques_and_its_policy_is_scored_with_torques(
 ):
     paper = TrainConfig.preset("paper")
     assert (paper.algo, paper.actuation, paper.samples_per_update) == ("trpo", "torque", 50_000)
-    assert paper.curriculum is None and TrainConfig.preset().actuation == "pd"
+    assert paper.curriculum is None and paper.warmup is None
+    default = TrainConfig.preset()
+    assert default.actuation == "delta" and default.curriculum == CurriculumConfig()
     assert (paper.haptics, TrainConfig.preset().haptics) == ("newtons", "log")
     assert paper.norm_epsilon == 1e-8  # SB3's VecNormalize default
     options = TINY | {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}

@@ -41,14 +41,17 @@ class TrainConfig:
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
-    actuation: str = "pd"  # the human's action: PD targets, moves of them ("delta"), or torques
+    # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
+    # pose, so a near start of the curriculum stays near), or torques
+    actuation: str = "delta"
     haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
     # added to each feature's running variance when normalising (VecNormalize's epsilon): a
     # floor of 0.32 on the std, so a feature that barely varied (an untouched sensor, a still
     # joint) is not blown up to the clip at its first change; SB3's default is 1e-8
     norm_epsilon: float = 0.1
     checkpoint_every: int = 20_000  # environment steps between checkpoints
-    curriculum: CurriculumConfig | None = None  # near starts that widen (training/curriculum.py)
+    # near starts that widen (training/curriculum.py); None: every episode starts at rest
+    curriculum: CurriculumConfig | None = CurriculumConfig()
     # r_d left out, then brought in to its full weight (training/warmup.py); None: from step 0
     warmup: WarmupConfig | None = WarmupConfig()
     out: str = "runs"
