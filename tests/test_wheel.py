@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SHIPPED = "fixed-complete-trpo-s0"
+SHIPPED, ITS_ROBOT = "front_linear-complete-trpo-warmup-s0", "front_linear"
 # What the wheel must work without (the ``train`` extra), and what comes from the wheel itself.
 LEFT_OUT = ("torch", "functorch", "torchgen", "stable_baselines3", "sb3_contrib", "tensorboard",
             "dressbench", "__editable__", "_dressbench", "tests")  # fmt: skip
@@ -78,7 +78,7 @@ def test_the_wheel_ships_the_trained_humans_and_evaluates_them_without_torch(use
         "import json, sys\n"
         "from dressbench.evaluation import evaluate\n"
         "if __name__ == '__main__':\n"
-        f"    table = evaluate('fixed', {SHIPPED!r}, episodes=1, workers=1, out='out',\n"
+        f"    table = evaluate({ITS_ROBOT!r}, {SHIPPED!r}, episodes=1, workers=1, out='out',\n"
         "                     progress=False, horizon=5, gown_vertices=300)\n"
         "    heavy = sorted({'torch', 'stable_baselines3', 'sb3_contrib', 'tensorboard'}\n"
         "                   & set(sys.modules))\n"
