@@ -1,6 +1,7 @@
 """The paper's comparison: verdicts read off the intervals, and the files `reproduce` writes."""
 
 import json
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -150,3 +151,11 @@ def test_a_docs_results_block_is_rewritten_from_the_csvs_and_the_rest_kept(compa
 def test_a_human_that_plays_none_of_the_papers_policies_is_refused_by_name(trained):
     with pytest.raises(ValueError, match="'scripted' plays none of the paper's policies"):
         paper_humans(["scripted"])
+
+
+def test_docs_reproduction_states_the_numbers_of_the_committed_comparison():
+    """docs/reproduction.md's results block is what results/reproduction's CSVs say."""
+    root = Path(__file__).resolve().parents[1]
+    assert documented_results(root / "docs" / "reproduction.md") == doc_results(
+        root / "results" / "reproduction"
+    )
