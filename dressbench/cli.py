@@ -486,8 +486,15 @@ def leaderboard_command(
 def reproduce_command(episodes, seed, workers, gown_vertices, horizon, out, humans, doc, backend,
                       address):  # fmt: skip
     """The paper's comparison: its five policies, the cross-play, a verdict per claim."""
-    from .evaluation.reproduction import paper_humans, reproduce, write_doc_results
+    from .evaluation.reproduction import (
+        documented_results,
+        paper_humans,
+        reproduce,
+        write_doc_results,
+    )
 
+    if doc:
+        documented_results(doc)  # a doc without a results block fails before the evaluation
     claims = reproduce(episodes=episodes, seed=seed, workers=workers or None, out=out,
                        humans=paper_humans(humans or None), gown_vertices=gown_vertices,
                        horizon=horizon, backend=backend, address=address)  # fmt: skip

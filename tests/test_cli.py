@@ -61,3 +61,14 @@ def test_reproduce_refuses_a_human_that_plays_none_of_the_papers_policies_in_one
     assert result.exit_code != 0
     assert "'scripted' plays none of the paper's policies" in result.output
     assert "Traceback" not in result.output and not list(tmp_path.iterdir())
+
+
+def test_reproduce_refuses_a_doc_without_a_results_block_before_it_evaluates(tmp_path):
+    doc = tmp_path / "notes.md"
+    doc.write_text("# Notes\n\nno block here\n")
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        main, ["evaluate", "reproduce", "--doc", str(doc), "--out", str(out)]
+    )
+    assert result.exit_code == 1 and "has no results block" in result.output
+    assert len(result.output.strip().splitlines()) == 1 and not out.exists()

@@ -142,13 +142,17 @@ def reproduce(
     return write_comparison(Path(out), table, humans, seed)
 
 
+def calibrated_limit() -> float:
+    """The deformation threshold the verdicts use: where the default reward's r_d reaches -0.1."""
+    reward = RewardConfig()
+    return deformation_limit(reward.deformation_threshold, reward.deformation_scale)
+
+
 def write_comparison(
     out: Path, episodes: pd.DataFrame, humans: Mapping[Role, Sequence[str]], seed: int = 0
 ) -> pd.DataFrame:
     """The comparison's tables and figures from an episodes table and curves.csv in ``out``."""
-    limit = deformation_limit(
-        RewardConfig().deformation_threshold, RewardConfig().deformation_scale
-    )
+    limit = calibrated_limit()
     roles = role_table(episodes, humans, seed)
     claims = claims_table(roles, limit)
     cross = cross_play_table(episodes, humans)
@@ -413,9 +417,7 @@ def doc_results(out: str | os.PathLike) -> str:
     """What docs/reproduction.md states of a comparison: its roles and claims tables, read from
     the CSVs in ``out``."""
     out = Path(out)
-    limit = deformation_limit(
-        RewardConfig().deformation_threshold, RewardConfig().deformation_scale
-    )
+    limit = calibrated_limit()
     roles = pd.read_csv(out / "roles.csv", keep_default_na=False, na_values=[""])
     claims = pd.read_csv(out / "claims.csv")
     return roles_markdown(roles) + "\n" + claims_markdown(claims, limit)
@@ -423,16 +425,21 @@ def doc_results(out: str | os.PathLike) -> str:
 
 def documented_results(doc: str | os.PathLike) -> str:
     """The results block of a doc: the text between its markers (ValueError without them)."""
-    text = Path(doc).read_text()
-    if DOC_BEGIN not in text or DOC_END not in text:
-        raise ValueError(f"{doc} has no results block ({DOC_BEGIN!r} ... {DOC_END!r})")
-    return text.split(DOC_BEGIN, 1)[1].split(DOC_END, 1)[0].strip("\n") + "\n"
+    _, block, _ = _results_block(doc)
+    return block.strip("\n") + "\n"
 
 
 def write_doc_results(doc: str | os.PathLike, out: str | os.PathLike) -> None:
     """Rewrite a doc's results block from the comparison in ``out``."""
-    text = Path(doc).read_text()
-    documented_results(doc)  # the markers are there
-    head, rest = text.split(DOC_BEGIN, 1)
-    tail = rest.split(DOC_END, 1)[1]
+    head, _, tail = _results_block(doc)
     write_text(Path(doc), f"{head}{DOC_BEGIN}\n{doc_results(out)}{DOC_END}{tail}")
+
+
+def _results_block(doc: str | os.PathLike) -> tuple[str, str, str]:
+    """A doc's text before its results block, the block, and the text after it."""
+    text = Path(doc).read_text()
+    if DOC_BEGIN not in text or DOC_END not in text:
+        raise ValueError(f"{doc} has no results block ({DOC_BEGIN!r} ... {DOC_END!r})")
+    head, rest = text.split(DOC_BEGIN, 1)
+    block, tail = rest.split(DOC_END, 1)
+    return head, block, tail
