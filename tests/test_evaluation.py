@@ -27,6 +27,7 @@ from dressbench.evaluation import (
     success_definition,
 )
 from dressbench.evaluation import workers as worker_module
+from dressbench.evaluation.readme import results_readme
 from dressbench.evaluation.report import stage_definitions
 from dressbench.evaluation.rollouts import STAGE_DEPTHS
 from dressbench.evaluation.schema import CURVE_COLUMNS, EPISODE_COLUMNS, LEADERBOARD_COLUMNS
@@ -313,6 +314,19 @@ def test_the_readme_of_a_results_folder_says_how_to_remake_it_and_lists_what_is_
     assert result.exit_code == 0, result.output
     assert (tmp_path / "leaderboard.csv").read_bytes() == before  # the same table, from the cache
     assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0
+
+
+def test_the_readme_lists_an_unfinished_training_run_with_how_to_continue_it(tmp_path):
+    run = tmp_path / "training" / "runs" / "fixed-no_task-trpo-s0"
+    run.mkdir(parents=True)
+    config = {"robot": "fixed", "ablation": "no_task", "timesteps": 1_000_000}
+    (run / "run.json").write_text(json.dumps({"config": config, "versions": {}}))
+    (run / "checkpoint.json").write_text(json.dumps({"timesteps": 178_631, "seed": 0}))
+    readme = results_readme(tmp_path)
+    assert (
+        "* `training/runs/fixed-no_task-trpo-s0/`: 178,631 of 1,000,000 steps, `dressbench "
+        "train --robot fixed --ablation no_task --name fixed-no_task-trpo-s0`"
+    ) in readme
 
 
 def test_a_finished_cell_is_archived_and_reused_on_a_machine_without_the_rollout_cache(tmp_path):

@@ -49,6 +49,14 @@ def results_readme(folder: str | Path) -> str:
                   "|---|---|---|---|---|---:|---:|---|"]  # fmt: skip
         lines += [_summary_row(path, folder) for path in summaries]
         lines.append("")
+    unfinished = sorted(p.parent for p in folder.rglob("checkpoint.json"))
+    if unfinished:
+        lines += ["## Unfinished training runs", "",
+                  "Checkpoints to continue on any machine: copy the folder into `runs/` and run "
+                  "`dressbench train` with the options its `run.json` records (for the default "
+                  "recipe, the command below):", ""]  # fmt: skip
+        lines += [_checkpoint_line(run, folder) for run in unfinished]
+        lines.append("")
     nested = sorted(p.parent for p in folder.glob("*/**/run_meta.json"))
     if nested:
         lines += ["## Other evaluations below this folder", ""]
@@ -131,3 +139,11 @@ def _summary_row(path: Path, folder: Path) -> str:
     return (f"| `{name}` | {config['robot']} | {config['ablation']} | {config['algo']} "
             f"| {config.get('recipe', '?')} | {steps} | {hours} "
             f"| {run['versions'].get('dressbench', '?')} |")  # fmt: skip
+
+
+def _checkpoint_line(run: Path, folder: Path) -> str:
+    config = json.loads((run / "run.json").read_text())["config"]
+    steps = json.loads((run / "checkpoint.json").read_text())["timesteps"]
+    return (f"* `{run.relative_to(folder).as_posix()}/`: {steps:,} of {config['timesteps']:,} "
+            f"steps, `dressbench train --robot {config['robot']} --ablation {config['ablation']} "
+            f"--name {run.name}`")  # fmt: skip
