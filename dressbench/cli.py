@@ -291,6 +291,12 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     help="Bring the deformation term in after the first steps (default: the recipe's).",
 )
 @click.option(
+    "--tear-limit",
+    type=click.FloatRange(min=1.0, min_open=True),
+    default=None,
+    help="End training episodes where the gown's max area ratio passes this (default: never).",
+)
+@click.option(
     "--actuation",
     type=click.Choice(ACTUATIONS),
     default=None,
@@ -308,6 +314,7 @@ def train(
     curriculum: bool | None,
     warmup: bool | None,
     haptics: str | None,
+    tear_limit: float | None,
     **options,
 ) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
@@ -320,6 +327,7 @@ def train(
     from .training import train as train_policy
     from .training.curriculum import CurriculumConfig
     from .training.run import TrainingStopped
+    from .training.tear import TearConfig
     from .training.warmup import WarmupConfig
 
     if curriculum is not None:
@@ -328,6 +336,8 @@ def train(
         options["warmup"] = WarmupConfig() if warmup else None
     if haptics is not None:
         options["haptics"] = haptics
+    if tear_limit is not None:
+        options["tear"] = TearConfig(tear_limit)
     options = {key: value for key, value in options.items() if value is not None}  # the recipe's
     config = TrainConfig.preset(recipe, **options)
     config.check()  # the robot loads, the env options are valid: before anything is removed

@@ -19,6 +19,7 @@ from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
 from dressbench.training.summary import write_learning_summary
+from dressbench.training.tear import TearConfig, TornGown
 from dressbench.training.warmup import DeformationShare, WarmupConfig
 
 TINY = {"gown_vertices": 600, "horizon": 32, "samples_per_update": 128, "envs": 1}
@@ -211,8 +212,32 @@ def test_the_deformation_share_scales_only_the_deformation_term():
     assert rewards[0.5] - rewards[0.0] == pytest.approx(deformation / 2)
 
 
+def test_a_torn_gown_ends_a_training_episode_once_the_deformation_term_counts():
+    env = DeformationShare(make_human_env("fixed", gown_vertices=600, horizon=8), 0.0)
+    torn = TornGown(env, TearConfig(ratio=1.01))  # the hanging gown is a little above 1.01
+    torn.reset(seed=3)
+    _, _, terminated, _, info = torn.step(np.zeros(torn.action_space.shape))
+    assert info["max_deformation"] > 1.01 and not terminated and info["torn"] == 0.0  # warming up
+    env.set_share(0.5)
+    _, _, terminated, _, info = torn.step(np.zeros(torn.action_space.shape))
+    assert terminated and info["torn"] == 1.0
+    torn.close()
+    with pytest.raises(ValueError, match="above 1"):
+        TearConfig(ratio=0.9)
+
+
+def test_a_run_with_a_tear_limit_logs_how_many_episodes_tore(tmp_path):
+    config = tiny_config(tmp_path, timesteps=256, name="tear", warmup=None,
+                         tear=TearConfig(ratio=1.01))  # fmt: skip
+    train(config, progress=False)
+    logged = pd.read_csv(tmp_path / "runs" / "tear" / "logs" / "progress.csv")
+    assert logged["rollout/torn_rate"].iloc[-1] == 1.0  # every episode ends at its first step
+    assert logged["rollout/ep_len_mean"].iloc[-1] == 1.0
+
+
 def test_a_config_comes_back_whole_from_its_run_json_fields():
-    config = TrainConfig(robot="side_linear", curriculum=CurriculumConfig(share=0.3))
+    config = TrainConfig(robot="side_linear", curriculum=CurriculumConfig(share=0.3),
+                         tear=TearConfig(2.5))  # fmt: skip
     assert TrainConfig.from_dict(json.loads(json.dumps(asdict(config)))) == config
     assert TrainConfig.from_dict(asdict(TrainConfig.preset("paper"))).warmup is None
 

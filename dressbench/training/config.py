@@ -17,6 +17,7 @@ from ..checks import (
 from ..observation import check_haptic_scale
 from ..scene.actuation import check_actuation
 from .curriculum import CurriculumConfig
+from .tear import TearConfig
 from .warmup import WarmupConfig
 
 ALGORITHMS = ("trpo", "ppo")
@@ -54,6 +55,8 @@ class TrainConfig:
     curriculum: CurriculumConfig | None = CurriculumConfig()
     # r_d left out, then brought in to its full weight (training/warmup.py); None: from step 0
     warmup: WarmupConfig | None = WarmupConfig()
+    # episodes end where the gown's max area ratio passes a limit (training/tear.py); None: never
+    tear: TearConfig | None = None
     out: str = "runs"
     policies: str = "policies"
     name: str = ""  # defaults to ROBOT-ABLATION-ALGO-sSEED
@@ -117,7 +120,7 @@ class TrainConfig:
     def from_dict(cls, fields: dict) -> TrainConfig:
         """The config of ``dataclasses.asdict(config)`` or ``record()`` (as in run.json), nested
         parts included; a record's folders are the defaults."""
-        nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig}
+        nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig, "tear": TearConfig}
         parts = {key: kind(**fields[key]) for key, kind in nested.items() if fields.get(key)}
         return cls(**(fields | parts))
 

@@ -30,6 +30,7 @@ from ..scene.world import actuated_scene
 from .config import TrainConfig
 from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
+from .tear import TornGown
 from .warmup import DeformationShare, WarmupConfig
 from .wrappers import ScaledHaptics
 
@@ -252,6 +253,9 @@ class _EnvFactory:
         keywords = ("arm_progress", "max_deformation", "sim_failure")
         if cfg.warmup is not None:
             env = DeformationShare(env, cfg.warmup.share(0))
+        if cfg.tear is not None and cfg.ablation != "no_haptics":  # no r_d, no tearing
+            env = TornGown(env, cfg.tear)
+            keywords += ("torn",)
         if cfg.curriculum is not None:
             env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)
             keywords += ("near_start",)
@@ -302,6 +306,7 @@ class _Progress(BaseCallback):
         self.done, self.total, self.enabled = done, total, enabled
         self.recent: deque[tuple[float, float, float]] = deque(maxlen=20)
         self.rest_starts: deque[float] = deque(maxlen=20)  # progress of episodes begun at rest
+        self.torn: deque[float] = deque(maxlen=20)  # episodes a tear limit ended
 
     def _on_training_start(self) -> None:
         self.bar = tqdm(total=self.total, initial=self.done, unit="step", disable=not self.enabled,
@@ -316,6 +321,10 @@ class _Progress(BaseCallback):
                 self.recent.append(tuple(float(episode[score]) for score in scores))
                 if episode.get("near_start", 0.0) == 0.0:
                     self.rest_starts.append(float(episode["arm_progress"]))
+                if "torn" in episode:
+                    self.torn.append(float(episode["torn"]))
+        if self.torn:
+            self.logger.record("rollout/torn_rate", np.mean(self.torn))
         if self.rest_starts:
             self.logger.record("rollout/rest_start_arm_progress", np.mean(self.rest_starts))
         if self.recent:
