@@ -22,11 +22,13 @@ RUNS = {  # learning summary stem: label
     "front_linear-complete-trpo-floor-s0": "log haptics + variance floor",
     "side_linear-complete-trpo-nofloor-s0": "side_linear: log haptics, no floor",
     "side_linear-complete-trpo-floor-s0": "side_linear: log haptics + variance floor",
-    "../front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (session 3)",
+    "front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (session 3)",
     "side_linear-complete-trpo-warmup-s0": "side_linear: + r_d warm-up",
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
     "../side_linear-complete-trpo-delta-curriculum-s0": "side_linear: warm-up, delta, curriculum",
     "../fixed-complete-trpo-delta-curriculum-s0": "fixed: warm-up, delta, curriculum",
+    "../front_linear-complete-trpo-delta-curriculum-s0": "front_linear: the default recipe (session 7)",
+    "front_linear-complete-trpo-delta-curriculum-tear3-s0": "front_linear: + tear limit 3.0 from 600k",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 

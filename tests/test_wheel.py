@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SHIPPED, ITS_ROBOT = "front_linear-complete-trpo-warmup-s0", "front_linear"
+SHIPPED, ITS_ROBOT = "front_linear-complete-trpo-delta-curriculum-s0", "front_linear"
 # What the wheel must work without (the ``train`` extra), and what comes from the wheel itself.
 LEFT_OUT = ("torch", "functorch", "torchgen", "stable_baselines3", "sb3_contrib", "tensorboard",
             "dressbench", "__editable__", "_dressbench", "tests")  # fmt: skip
