@@ -325,7 +325,7 @@ def test_the_readme_lists_an_unfinished_training_run_with_how_to_continue_it(tmp
     readme = results_readme(tmp_path)
     assert (
         "* `training/runs/fixed-no_task-trpo-s0/`: 178,631 of 1,000,000 steps, `dressbench "
-        "train --robot fixed --ablation no_task --name fixed-no_task-trpo-s0`"
+        "train --robot fixed --ablation no_task --timesteps 1000000 --name fixed-no_task-trpo-s0`"
     ) in readme
 
 

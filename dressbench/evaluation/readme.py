@@ -146,4 +146,4 @@ def _checkpoint_line(run: Path, folder: Path) -> str:
     steps = json.loads((run / "checkpoint.json").read_text())["timesteps"]
     return (f"* `{run.relative_to(folder).as_posix()}/`: {steps:,} of {config['timesteps']:,} "
             f"steps, `dressbench train --robot {config['robot']} --ablation {config['ablation']} "
-            f"--name {run.name}`")  # fmt: skip
+            f"--timesteps {config['timesteps']} --name {run.name}`")  # fmt: skip
