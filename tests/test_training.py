@@ -213,13 +213,16 @@ def test_the_deformation_share_scales_only_the_deformation_term():
     assert rewards[0.5] - rewards[0.0] == pytest.approx(deformation / 2)
 
 
-def test_a_torn_gown_ends_a_training_episode_once_the_deformation_term_counts():
+def test_a_torn_gown_ends_a_training_episode_once_the_deformation_term_has_its_full_weight():
     env = DeformationShare(make_human_env("fixed", gown_vertices=600, horizon=8), 0.0)
     torn = TornGown(env, TearConfig(ratio=1.01))  # the hanging gown is a little above 1.01
     torn.reset(seed=3)
     _, _, terminated, _, info = torn.step(np.zeros(torn.action_space.shape))
     assert info["max_deformation"] > 1.01 and not terminated and info["torn"] == 0.0  # warming up
     env.set_share(0.5)
+    _, _, terminated, _, info = torn.step(np.zeros(torn.action_space.shape))
+    assert not terminated and info["torn"] == 0.0  # still warming up
+    env.set_share(1.0)
     _, _, terminated, _, info = torn.step(np.zeros(torn.action_space.shape))
     assert terminated and info["torn"] == 1.0
     torn.close()

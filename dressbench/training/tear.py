@@ -29,8 +29,8 @@ class TearConfig:
 
 
 class TornGown(gym.Wrapper):
-    """Ends an episode (``terminated``) at the step its max area ratio passes ``ratio``, while
-    the deformation term counts (its warm-up share, if the env has one, above 0);
+    """Ends an episode (``terminated``) at the step its max area ratio passes ``ratio``, once
+    the deformation term has its full weight (the warm-up's end, if the env has one);
     ``info["torn"]`` says whether it did."""
 
     def __init__(self, env: gym.Env, config: TearConfig) -> None:
@@ -48,6 +48,6 @@ class TornGown(gym.Wrapper):
 
     def _deformation_counts(self) -> bool:
         try:
-            return self.env.get_wrapper_attr("share") > 0.0
+            return self.env.get_wrapper_attr("share") >= 1.0
         except AttributeError:  # no warm-up: r_d counts from the first step
             return True
