@@ -294,8 +294,10 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     "--tear-limit",
     type=click.FloatRange(min=1.0, min_open=True),
     default=None,
-    help="End training episodes where the gown's max area ratio passes this (default: never).",
+    help="End training episodes where the gown's max area ratio passes this (default: the "
+    "recipe's; the default recipe's is the deformation threshold, 2.02).",
 )
+@click.option("--no-tear-limit", is_flag=True, help="Never end a training episode for tearing.")
 @click.option(
     "--actuation",
     type=click.Choice(ACTUATIONS),
@@ -315,6 +317,7 @@ def train(
     warmup: bool | None,
     haptics: str | None,
     tear_limit: float | None,
+    no_tear_limit: bool,
     **options,
 ) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
@@ -330,7 +333,10 @@ def train(
     from .training.tear import TearConfig
     from .training.warmup import WarmupConfig
 
-    if curriculum is not None:
+    if tear_limit is not None and no_tear_limit:
+        raise click.UsageError("--tear-limit and --no-tear-limit exclude each other")
+    options = {key: value for key, value in options.items() if value is not None}  # the recipe's
+    if curriculum is not None:  # a part turned off is None, so after the recipe's are kept
         options["curriculum"] = CurriculumConfig() if curriculum else None
     if warmup is not None:
         options["warmup"] = WarmupConfig() if warmup else None
@@ -338,7 +344,8 @@ def train(
         options["haptics"] = haptics
     if tear_limit is not None:
         options["tear"] = TearConfig(tear_limit)
-    options = {key: value for key, value in options.items() if value is not None}  # the recipe's
+    if no_tear_limit:
+        options["tear"] = None
     config = TrainConfig.preset(recipe, **options)
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:

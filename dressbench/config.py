@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, replace
 
 from .checks import check_gown_vertices, check_horizon
+from .metrics import deformation_limit
 from .observation import check_ablation
 from .scene.clock import POLICY_DT
 from .scene.world import SceneConfig
@@ -24,6 +25,12 @@ class RewardConfig:
     upright: float = 1.0
     deformation_threshold: float = 1.0  # the paper: 15; see docs/reward.md
     deformation_scale: float = 1.5  # the paper: 0.7
+
+    @property
+    def limit(self) -> float:
+        """The deformation threshold: the area ratio at which r_d reaches -0.1 (2.02 with these
+        numbers, 14.9 with the paper's), what "low deformation" is read against."""
+        return deformation_limit(self.deformation_threshold, self.deformation_scale)
 
 
 @dataclass(frozen=True)

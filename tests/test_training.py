@@ -12,8 +12,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from click.testing import CliRunner
 
 from dressbench import plugins
+from dressbench.cli import main
+from dressbench.config import RewardConfig
 from dressbench.evaluation import evaluate, leaderboard, make_cell
 from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
@@ -237,6 +240,31 @@ def test_a_run_with_a_tear_limit_logs_how_many_episodes_tore(tmp_path):
     logged = pd.read_csv(tmp_path / "runs" / "tear" / "logs" / "progress.csv")
     assert logged["rollout/torn_rate"].iloc[-1] == 1.0  # every episode ends at its first step
     assert logged["rollout/ep_len_mean"].iloc[-1] == 1.0
+
+
+def test_the_default_recipe_ends_episodes_at_the_deformation_threshold_and_paper_never():
+    assert TrainConfig().tear == TearConfig(ratio=RewardConfig().limit)
+    assert RewardConfig().limit == pytest.approx(2.02, abs=0.005)
+    assert TrainConfig.preset("paper").tear is None
+
+
+@pytest.mark.parametrize(
+    ("flags", "expected"),
+    [
+        ([], {"warmup": asdict(WarmupConfig()), "tear": asdict(TearConfig())}),
+        (["--no-warmup", "--no-curriculum", "--no-tear-limit"],
+         {"warmup": None, "curriculum": None, "tear": None}),
+        (["--tear-limit", "3"], {"tear": {"ratio": 3.0}}),
+    ],
+)  # fmt: skip
+def test_train_options_turn_the_recipes_parts_off_or_change_them(tmp_path, flags, expected):
+    where = ["--out", str(tmp_path / "runs"), "--policies", str(tmp_path / "policies")]
+    tiny = ["--gown-vertices", "600", "--envs", "1", "--timesteps", "8"]
+    result = CliRunner().invoke(main, ["train", "--robot", "fixed", "--name", "flags", *where,
+                                       *tiny, *flags])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    config = json.loads((tmp_path / "runs" / "flags" / "run.json").read_text())["config"]
+    assert {key: config[key] for key in expected} == expected
 
 
 def test_a_config_comes_back_whole_from_its_run_json_fields():

@@ -23,7 +23,6 @@ import pandas as pd
 
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
-from ..metrics import deformation_limit
 from ..plugins import human_plugins, load_human
 from .cells import checked_pair, make_cell
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
@@ -142,17 +141,11 @@ def reproduce(
     return write_comparison(Path(out), table, humans, seed)
 
 
-def calibrated_limit() -> float:
-    """The deformation threshold the verdicts use: where the default reward's r_d reaches -0.1."""
-    reward = RewardConfig()
-    return deformation_limit(reward.deformation_threshold, reward.deformation_scale)
-
-
 def write_comparison(
     out: Path, episodes: pd.DataFrame, humans: Mapping[Role, Sequence[str]], seed: int = 0
 ) -> pd.DataFrame:
     """The comparison's tables and figures from an episodes table and curves.csv in ``out``."""
-    limit = calibrated_limit()
+    limit = RewardConfig().limit
     roles = role_table(episodes, humans, seed)
     claims = claims_table(roles, limit)
     cross = cross_play_table(episodes, humans)
@@ -417,7 +410,7 @@ def doc_results(out: str | os.PathLike) -> str:
     """What docs/reproduction.md states of a comparison: its roles and claims tables, read from
     the CSVs in ``out``."""
     out = Path(out)
-    limit = calibrated_limit()
+    limit = RewardConfig().limit
     roles = pd.read_csv(out / "roles.csv", keep_default_na=False, na_values=[""])
     claims = pd.read_csv(out / "claims.csv")
     return roles_markdown(roles) + "\n" + claims_markdown(claims, limit)

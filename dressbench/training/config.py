@@ -55,8 +55,9 @@ class TrainConfig:
     curriculum: CurriculumConfig | None = CurriculumConfig()
     # r_d left out, then brought in to its full weight (training/warmup.py); None: from step 0
     warmup: WarmupConfig | None = WarmupConfig()
-    # episodes end where the gown's max area ratio passes a limit (training/tear.py); None: never
-    tear: TearConfig | None = None
+    # episodes end where the gown's max area ratio passes a limit, once r_d has its full weight
+    # (training/tear.py); None: never
+    tear: TearConfig | None = TearConfig()
     out: str = "runs"
     policies: str = "policies"
     name: str = ""  # defaults to ROBOT-ABLATION-ALGO-sSEED
@@ -107,7 +108,7 @@ class TrainConfig:
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
                      "haptics": "newtons", "norm_epsilon": 1e-8, "curriculum": None,
-                     "warmup": None}  # fmt: skip
+                     "warmup": None, "tear": None}  # fmt: skip
         return cls(**(base | changes))
 
     def record(self) -> dict:

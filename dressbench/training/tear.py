@@ -1,5 +1,6 @@
 """A torn gown ends the episode: training episodes stop where the gown's max area ratio passes a
-limit, so forcing the gown costs the human the rest of its dressing, not a few steps of r_d.
+limit (by default the deformation threshold itself), so forcing the gown costs the human the rest
+of its dressing, not a few steps of r_d.
 
 r_d saturates (its tanh is flat beyond a ratio of about 3.5 with dressbench's calibration), and
 the hand forcing the opening lasts a few of 400 steps, so on the paper's reward alone pushing
@@ -14,14 +15,16 @@ from dataclasses import dataclass
 
 import gymnasium as gym
 
+from ..config import RewardConfig
+
 
 @dataclass(frozen=True)
 class TearConfig:
     """Where a training episode counts the gown as torn."""
 
-    # max area ratio; 3.0 is the midpoint of r_d's tanh with dressbench's calibration
-    # (w_thresh + 2), where r_d is -1 (x 6 in the reward)
-    ratio: float = 3.0
+    # max area ratio; the default is the deformation threshold (2.02: r_d = -0.1), the line a
+    # careful human stays under (docs/training.md, experiments of session 8)
+    ratio: float = RewardConfig().limit
 
     def __post_init__(self) -> None:
         if not self.ratio > 1.0:
