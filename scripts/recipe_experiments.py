@@ -27,8 +27,9 @@ RUNS = {  # learning summary stem: label
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
     "../side_linear-complete-trpo-delta-curriculum-s0": "side_linear: warm-up, delta, curriculum",
     "../fixed-complete-trpo-delta-curriculum-s0": "fixed: warm-up, delta, curriculum",
-    "../front_linear-complete-trpo-delta-curriculum-s0": "front_linear: default recipe (s7)",
+    "front_linear-complete-trpo-delta-curriculum-s0": "front_linear: default recipe (s7)",
     "front_linear-complete-trpo-delta-curriculum-tear3-s0": "front_linear: + tear limit 3 (600k)",
+    "../front_linear-complete-trpo-delta-curriculum-tear202-s0": "front_linear: + tear limit 2.02",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 
