@@ -322,10 +322,22 @@ def test_the_readme_lists_an_unfinished_training_run_with_how_to_continue_it(tmp
     config = {"robot": "fixed", "ablation": "no_task", "timesteps": 1_000_000}
     (run / "run.json").write_text(json.dumps({"config": config, "versions": {}}))
     (run / "checkpoint.json").write_text(json.dumps({"timesteps": 178_631, "seed": 0}))
+    seeded = tmp_path / "training" / "runs" / "fixed-complete-trpo-s2"
+    seeded.mkdir()
+    config = {"robot": "fixed", "ablation": "complete", "timesteps": 761_802, "seed": 2,
+              "recipe": "default", "warmup": None, "tear": {"ratio": 2.02}}  # fmt: skip
+    (seeded / "run.json").write_text(json.dumps({"config": config, "versions": {}}))
+    (seeded / "checkpoint.json").write_text(json.dumps({"timesteps": 326_284, "seed": 2}))
     readme = results_readme(tmp_path)
     assert (
         "* `training/runs/fixed-no_task-trpo-s0/`: 178,631 of 1,000,000 steps, `dressbench "
-        "train --robot fixed --ablation no_task --timesteps 1000000 --name fixed-no_task-trpo-s0`"
+        "train --robot fixed --ablation no_task --seed 0 --timesteps 1000000 --no-tear-limit "
+        "--name fixed-no_task-trpo-s0`"
+    ) in readme  # a run from before the tear limit is continued without one
+    assert (
+        "* `training/runs/fixed-complete-trpo-s2/`: 326,284 of 761,802 steps, `dressbench train "
+        "--robot fixed --ablation complete --seed 2 --timesteps 761802 --no-warmup --tear-limit "
+        "2.02 --name fixed-complete-trpo-s2`"
     ) in readme
 
 

@@ -145,5 +145,23 @@ def _checkpoint_line(run: Path, folder: Path) -> str:
     config = json.loads((run / "run.json").read_text())["config"]
     steps = json.loads((run / "checkpoint.json").read_text())["timesteps"]
     return (f"* `{run.relative_to(folder).as_posix()}/`: {steps:,} of {config['timesteps']:,} "
-            f"steps, `dressbench train --robot {config['robot']} --ablation {config['ablation']} "
-            f"--timesteps {config['timesteps']} --name {run.name}`")  # fmt: skip
+            f"steps, `{_continue_command(config, run.name)}`")  # fmt: skip
+
+
+def _continue_command(config: dict[str, Any], name: str) -> str:
+    """The train command that resumes a run as it was configured: a resumed run takes its
+    options from the command, so whatever today's recipe sets otherwise (the seed, the tear
+    limit, a part the run turned off) is stated."""
+    recipe = config.get("recipe", "default")
+    flags = [f"--robot {config['robot']}", f"--ablation {config['ablation']}"]
+    if recipe != "default":
+        flags.append(f"--recipe {recipe}")
+    if config.get("algo", "trpo") != "trpo":
+        flags.append(f"--algo {config['algo']}")
+    flags += [f"--seed {config.get('seed', 0)}", f"--timesteps {config['timesteps']}"]
+    if recipe == "default":
+        off = [part for part in ("curriculum", "warmup") if part in config and config[part] is None]
+        flags += [f"--no-{part}" for part in off]
+    tear = config.get("tear")  # a run from before the tear limit had none
+    flags.append(f"--tear-limit {tear['ratio']!r}" if tear else "--no-tear-limit")
+    return f"dressbench train {' '.join(flags)} --name {name}"
