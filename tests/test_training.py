@@ -248,6 +248,11 @@ def test_the_default_recipe_ends_episodes_at_the_deformation_threshold_and_paper
     assert TrainConfig.preset("paper").tear is None
 
 
+def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():
+    assert TrainConfig(ablation="no_haptics").record()["tear"] is None
+    assert TrainConfig(ablation="no_task").record()["tear"] == asdict(TearConfig())
+
+
 @pytest.mark.parametrize(
     ("flags", "expected"),
     [

@@ -111,11 +111,17 @@ class TrainConfig:
                      "warmup": None, "tear": None}  # fmt: skip
         return cls(**(base | changes))
 
+    @property
+    def tear_limit(self) -> TearConfig | None:
+        """The tear limit that applies: none for ``no_haptics``, whose reward has no r_d."""
+        return None if self.ablation == "no_haptics" else self.tear
+
     def record(self) -> dict:
         """What the run is, as run.json and the policy file record it: every field but the
         folders it was written to (``out``, ``policies``), so a run folder moved elsewhere
-        holds no path of the machine it came from."""
-        return {k: v for k, v in asdict(self).items() if k not in ("out", "policies")}
+        holds no path of the machine it came from; the tear limit is the one that applies."""
+        fields = {k: v for k, v in asdict(self).items() if k not in ("out", "policies")}
+        return fields | {"tear": asdict(self.tear_limit) if self.tear_limit else None}
 
     @classmethod
     def from_dict(cls, fields: dict) -> TrainConfig:

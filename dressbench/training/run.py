@@ -253,8 +253,8 @@ class _EnvFactory:
         keywords = ("arm_progress", "max_deformation", "sim_failure")
         if cfg.warmup is not None:
             env = DeformationShare(env, cfg.warmup.share(0))
-        if cfg.tear is not None and cfg.ablation != "no_haptics":  # no r_d, no tearing
-            env = TornGown(env, cfg.tear)
+        if cfg.tear_limit is not None:
+            env = TornGown(env, cfg.tear_limit)
             keywords += ("torn",)
         if cfg.curriculum is not None:
             env = NearStarts(env, cfg.curriculum, seed=cfg.seed * 1000 + self.rank)
