@@ -21,7 +21,7 @@ import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.logger import configure
-from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecNormalize
+from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecNormalize
 from tqdm import tqdm
 
 from ..files import write_csv, write_json
@@ -31,6 +31,7 @@ from .config import TrainConfig
 from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
 from .tear import TornGown
+from .vec_env import SharedCoreVecEnv
 from .warmup import DeformationShare, WarmupConfig
 from .wrappers import ScaledHaptics
 
@@ -129,7 +130,7 @@ class TrainingRun:
         if cfg.n_envs == 1:
             venv = DummyVecEnv(factories)
         else:
-            venv = SubprocVecEnv(factories, start_method="spawn")
+            venv = SharedCoreVecEnv(factories, start_method="spawn")
         venv.seed(self._episode_seed())
         if self.norm_path.exists():
             return VecNormalize.load(str(self.norm_path), venv)

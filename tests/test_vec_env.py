@@ -1,0 +1,75 @@
+"""Training's envs on every core: SharedCoreVecEnv steps env 0 in the training process and the
+rest in workers, and gives the episodes one process would."""
+
+import json
+from functools import partial
+
+import numpy as np
+import pandas as pd
+import pytest
+from stable_baselines3.common.vec_env import DummyVecEnv
+
+from dressbench.factory import make_human_env
+from dressbench.training import TrainConfig, train
+from dressbench.training.curriculum import CurriculumConfig, NearStarts
+from dressbench.training.vec_env import SharedCoreVecEnv
+
+
+def near_start_env(rank: int):
+    """A small env whose episodes end after 4 steps, with the curriculum's near starts."""
+    env = make_human_env("fixed", gown_vertices=600, horizon=4)
+    return NearStarts(env, CurriculumConfig(share=1.0), seed=rank)
+
+
+def rollout(venv, steps: int) -> list:
+    venv.seed(7)
+    observations = [venv.reset()]
+    shape = (steps, venv.num_envs, *venv.action_space.shape)
+    actions = np.random.default_rng(0).uniform(-1, 1, shape)
+    for action in actions:
+        observation, reward, done, infos = venv.step(action)
+        observations.append((observation, reward, done, [i.get("near_start") for i in infos]))
+    venv.close()
+    return observations
+
+
+def test_env_zero_here_and_the_rest_in_workers_give_the_episodes_of_one_process():
+    factories = [partial(near_start_env, rank) for rank in range(3)]
+    shared = rollout(SharedCoreVecEnv(factories), steps=6)  # past an episode's end: auto-reset
+    single = rollout(DummyVecEnv(factories), steps=6)
+    np.testing.assert_array_equal(shared[0], single[0])
+    for (obs_a, rew_a, done_a, info_a), (obs_b, rew_b, done_b, info_b) in zip(
+        shared[1:], single[1:], strict=True
+    ):
+        np.testing.assert_allclose(obs_a, obs_b, rtol=1e-6, atol=1e-6)
+        np.testing.assert_allclose(rew_a, rew_b, rtol=1e-6, atol=1e-6)
+        np.testing.assert_array_equal(done_a, done_b)
+        assert info_a == info_b
+    assert shared[4][2].all()  # each episode ended at its 4th step
+
+
+def test_methods_and_attributes_reach_the_envs_they_name_wherever_they_run():
+    venv = SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(3)])
+    try:
+        venv.env_method("set_reach", 0.2, indices=[0, 2])
+        assert venv.get_attr("reach") == pytest.approx([0.2, 0.05, 0.2])
+        venv.set_attr("reach", 0.3)
+        assert venv.get_attr("reach", indices=2) == pytest.approx([0.3])
+        assert venv.env_is_wrapped(NearStarts) == [True, True, True]
+    finally:
+        venv.close()
+
+
+def test_it_needs_two_envs():
+    with pytest.raises(ValueError, match="2 envs"):
+        SharedCoreVecEnv([partial(near_start_env, 0)])
+
+
+def test_a_run_with_two_env_processes_trains_and_coaches_both(tmp_path):
+    coach = CurriculumConfig(share=1.0, window=2, promote_at=0.0)  # promote after 2 episodes
+    config = TrainConfig(gown_vertices=600, horizon=32, samples_per_update=128, envs=2,
+                         timesteps=256, curriculum=coach, name="two", out=str(tmp_path / "runs"),
+                         policies=str(tmp_path / "policies"))  # fmt: skip
+    assert json.loads(train(config, progress=False).read_text())["steps"] == 256
+    logged = pd.read_csv(tmp_path / "runs" / "two" / "logs" / "progress.csv")
+    assert logged["curriculum/reach"].iloc[-1] > coach.first_reach
