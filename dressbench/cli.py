@@ -305,6 +305,12 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     help="What an action drives: PD targets, moves of them, torques (default: the recipe's).",
 )
 @click.option(
+    "--action-std",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    help="Initial std of the policy's actions (default: the recipe's, 1).",
+)
+@click.option(
     "--haptics",
     type=click.Choice(["log", "newtons"]),
     default=None,

@@ -325,7 +325,8 @@ def test_the_readme_lists_an_unfinished_training_run_with_how_to_continue_it(tmp
     seeded = tmp_path / "training" / "runs" / "fixed-complete-trpo-s2"
     seeded.mkdir()
     config = {"robot": "fixed", "ablation": "complete", "timesteps": 761_802, "seed": 2,
-              "recipe": "default", "warmup": None, "tear": {"ratio": 2.02}}  # fmt: skip
+              "recipe": "default", "warmup": None, "tear": {"ratio": 2.02},
+              "action_std": 0.4}  # fmt: skip
     (seeded / "run.json").write_text(json.dumps({"config": config, "versions": {}}))
     (seeded / "checkpoint.json").write_text(json.dumps({"timesteps": 326_284, "seed": 2}))
     readme = results_readme(tmp_path)
@@ -336,8 +337,8 @@ def test_the_readme_lists_an_unfinished_training_run_with_how_to_continue_it(tmp
     ) in readme  # a run from before the tear limit is continued without one
     assert (
         "* `training/runs/fixed-complete-trpo-s2/`: 326,284 of 761,802 steps, `dressbench train "
-        "--robot fixed --ablation complete --seed 2 --timesteps 761802 --no-warmup --tear-limit "
-        "2.02 --name fixed-complete-trpo-s2`"
+        "--robot fixed --ablation complete --seed 2 --timesteps 761802 --no-warmup --action-std "
+        "0.4 --tear-limit 2.02 --name fixed-complete-trpo-s2`"
     ) in readme
 
 

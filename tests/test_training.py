@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from click.testing import CliRunner
+from sb3_contrib import TRPO
 
 from dressbench import plugins
 from dressbench.cli import main
@@ -248,6 +249,14 @@ def test_the_default_recipe_ends_episodes_at_the_deformation_threshold_and_paper
     assert TrainConfig.preset("paper").tear is None
 
 
+def test_a_run_starts_its_policy_at_the_action_std_it_is_given(tmp_path):
+    train(tiny_config(tmp_path, timesteps=8, name="narrow", action_std=0.4), progress=False)
+    model = TRPO.load(tmp_path / "runs" / "narrow" / "checkpoint.zip", device="cpu")
+    assert np.exp(model.policy.log_std.detach().numpy()) == pytest.approx(0.4)
+    with pytest.raises(ValueError, match="action_std"):
+        TrainConfig(action_std=0.0)
+
+
 def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():
     assert TrainConfig(ablation="no_haptics").record()["tear"] is None
     assert TrainConfig(ablation="no_task").record()["tear"] == asdict(TearConfig())
@@ -260,6 +269,7 @@ def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():
         (["--no-warmup", "--no-curriculum", "--no-tear-limit"],
          {"warmup": None, "curriculum": None, "tear": None}),
         (["--tear-limit", "3"], {"tear": {"ratio": 3.0}}),
+        (["--action-std", "0.4"], {"action_std": 0.4}),
     ],
 )  # fmt: skip
 def test_train_options_turn_the_recipes_parts_off_or_change_them(tmp_path, flags, expected):

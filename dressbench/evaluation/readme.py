@@ -162,6 +162,8 @@ def _continue_command(config: dict[str, Any], name: str) -> str:
     if recipe == "default":
         off = [part for part in ("curriculum", "warmup") if part in config and config[part] is None]
         flags += [f"--no-{part}" for part in off]
+    if config.get("action_std", 1.0) != 1.0:
+        flags.append(f"--action-std {config['action_std']!r}")
     tear = config.get("tear")  # a run from before the tear limit had none
     flags.append(f"--tear-limit {tear['ratio']!r}" if tear else "--no-tear-limit")
     return f"dressbench train {' '.join(flags)} --name {name}"

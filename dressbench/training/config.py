@@ -42,6 +42,9 @@ class TrainConfig:
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
+    # the initial std of the policy's Gaussian actions (SB3's default, 1); with "delta" actions
+    # the noise random-walks the PD targets, so a wide one carries a near start away
+    action_std: float = 1.0
     # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
     # pose, so a near start of the curriculum stays near), or torques
     actuation: str = "delta"
@@ -74,6 +77,8 @@ class TrainConfig:
         check_horizon(self.horizon)
         check_int(self.samples_per_update, "samples_per_update", 1)
         check_int(self.checkpoint_every, "checkpoint_every", 1)
+        if not self.action_std > 0.0:
+            raise ValueError(f"action_std must be > 0, got {self.action_std}")
         if not self.norm_epsilon > 0.0:
             raise ValueError(f"norm_epsilon must be > 0, got {self.norm_epsilon}")
         check_name(self.name)

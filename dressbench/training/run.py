@@ -10,6 +10,7 @@ without unpickling anything.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 from collections import deque
@@ -163,6 +164,7 @@ class TrainingRun:
             "policy_kwargs": {
                 "net_arch": {"pi": [64, 64], "vf": [64, 64]},
                 "activation_fn": torch.nn.Tanh,
+                "log_std_init": math.log(cfg.action_std),
             },
         }
         if cfg.algo == "trpo":
