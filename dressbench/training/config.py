@@ -77,10 +77,9 @@ class TrainConfig:
         check_horizon(self.horizon)
         check_int(self.samples_per_update, "samples_per_update", 1)
         check_int(self.checkpoint_every, "checkpoint_every", 1)
-        if not self.action_std > 0.0:
-            raise ValueError(f"action_std must be > 0, got {self.action_std}")
-        if not self.norm_epsilon > 0.0:
-            raise ValueError(f"norm_epsilon must be > 0, got {self.norm_epsilon}")
+        for field in ("action_std", "norm_epsilon"):
+            if not getattr(self, field) > 0.0:
+                raise ValueError(f"{field} must be > 0, got {getattr(self, field)}")
         check_name(self.name)
 
     def check(self) -> None:
