@@ -1,34 +1,65 @@
-"""The gripper's hold on the gown, as a rigid hoop the human's body cannot pass through.
+"""The gripper's hold on the gown: a rigid hoop that the robot drives with limited force.
 
-The gripper holds the whole armhole loop and the shoulder seam, so that part of the gown is
-rigid. The cloth's pinned vertices follow it, but a light cloth cannot stop an arm, and a penalty
-spring stiff enough to stop one is unstable at dt = 0.01 s. So the held part is also a kinematic
-body in DART: chains of thin capsules along the loop and the seam. DART's contact solver keeps
-the human's capsules out of it, which is what stops an arm from sweeping into the opening
-across its rim.
+The gripper holds the whole armhole loop, so that part of the gown is rigid. The cloth's pinned
+vertices follow it, but a light cloth cannot stop an arm, and a penalty spring stiff enough to
+stop one is unstable at dt = 0.01 s. So the held part is also a body in DART: a chain of thin
+capsules along the loop. DART's contact solver keeps the human's capsules out of it, which is
+what stops an arm from sweeping into the opening across its rim.
+
+The hoop is driven by a servo toward the pose the robot commands, with a force limit (the
+robot's compliance), rather than placed there: DART's contacts ignore the motion of a placed
+(immobile) body and undo a penetration at 1 mm/s, so a robot path that ran into the arm went
+through it, the rim cutting 2-4 cm into a forearm and the cloth beside the pins stretching up
+to 28 times its area (docs/scene.md). Driven, the rim pushes the arm out of its way, and where
+the arm cannot move (a joint at its limit) the gripper stops, as a force-limited robot does.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import dartpy as dart
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from .geometry import quat_matrix, rotation_z_to
 from .human import Human
 
 
-class Hoop:
-    """Kinematic capsule chains through the held vertices, moved with the gripper."""
+@dataclass(frozen=True)
+class GripperConfig:
+    """How the robot drives the held rim."""
 
-    def __init__(self, human: Human, ring: np.ndarray, radius: float = 0.006) -> None:
+    # N: the most the robot pushes on the body with; ISO/TS 15066 allows 140-160 N of
+    # quasi-static contact on the hand and forearm
+    max_force: float = 150.0
+    max_torque: float = 15.0  # N m, about the rim: the force limit at its 0.1 m radius
+    mass: float = 2.0  # kg, the rim and gripper as they move under contact
+    radius: float = 0.006  # m, of the rim's capsules
+
+
+class Hoop:
+    """A capsule chain through the held loop, servoed to the gripper's commanded pose."""
+
+    def __init__(
+        self, human: Human, ring: np.ndarray, config: GripperConfig = GripperConfig()
+    ) -> None:
         """``ring`` is the held loop (a closed polyline) in the gown's frame."""
+        self.dt = human.world.getTimeStep()
         self.skeleton = dart.dynamics.Skeleton("gripper_hoop")
         joint, body = self.skeleton.createFreeJointAndBodyNodePair()
         body.setName("hoop")
         closed = np.vstack([ring, ring[:1]])
         for a, b in zip(closed[:-1], closed[1:], strict=True):
-            _add_capsule(body, a, b, radius)
-        self.skeleton.setMobile(False)
+            _add_capsule(body, a, b, config.radius)
+        body.setMass(config.mass)
+        inertia = config.mass * float(np.mean(np.sum(ring**2, axis=1)))  # a ring's, about any axis
+        body.setMomentOfInertia(inertia, inertia, inertia, 0.0, 0.0, 0.0)
+        body.setGravityMode(False)  # the robot carries its weight
+        joint.setActuatorType(dart.dynamics.ActuatorType.SERVO)
+        limit = np.array([config.max_torque] * 3 + [config.max_force] * 3)
+        joint.setForceUpperLimits(limit)
+        joint.setForceLowerLimits(-limit)
         self._joint = joint
         self._body = body
         human.world.addSkeleton(self.skeleton)
@@ -38,17 +69,29 @@ class Hoop:
             for k in range(human_body.getNumShapeNodes())
         }
         self._world = human.world
-        self._pose: np.ndarray | None = None
 
-    def set_pose(self, pose: np.ndarray) -> None:
-        """Place the hoop at a gripper pose (x, y, z, qx, qy, qz, qw)."""
-        if self._pose is not None and np.array_equal(pose, self._pose):
-            return  # a still gripper: DART keeps the hoop where it is
-        self._pose = np.array(pose, dtype=float)
+    def reset(self, pose: np.ndarray) -> None:
+        """Place the hoop at a gripper pose (x, y, z, qx, qy, qz, qw), motionless."""
         tf = dart.math.Isometry3()
         tf.set_translation(pose[:3])
         tf.set_rotation(quat_matrix(pose[3:]))
         self._joint.setTransform(tf)
+        self._joint.setVelocities(np.zeros(6))
+
+    def drive(self, pose: np.ndarray) -> None:
+        """Command the velocity that reaches ``pose`` in the next DART step; the servo gets
+        there unless that takes more than the force limits against the body."""
+        transform = self._body.getWorldTransform()
+        turn = Rotation.from_matrix(quat_matrix(pose[3:]) @ transform.rotation().T).as_rotvec()
+        move = np.asarray(pose[:3], dtype=float) - transform.translation()
+        # dartpy's FreeJoint velocities are the body's angular and linear velocity, world frame
+        self._joint.setCommands(np.concatenate([turn, move]) / self.dt)
+
+    def pose(self) -> np.ndarray:
+        """Where the hoop is: (x, y, z, qx, qy, qz, qw)."""
+        transform = self._body.getWorldTransform()
+        quaternion = Rotation.from_matrix(transform.rotation()).as_quat()  # scalar last
+        return np.concatenate([transform.translation(), quaternion])
 
     def contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The last DART step's hoop contacts: human body index, point, force on the body."""

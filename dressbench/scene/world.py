@@ -18,7 +18,7 @@ from .clock import FRAME_SKIP, SIM_DT
 from .cloth import Cloth, ClothConfig, ClothMesh, ContactBodies
 from .garment import BACK, SEAM, Gown, GownConfig, make_gown, straight_pairs
 from .geometry import interpolate_pose, quat_matrix, transform_points
-from .gripper import Hoop
+from .gripper import GripperConfig, Hoop
 from .human import Human, HumanConfig
 
 IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # x y z qx qy qz qw
@@ -31,6 +31,7 @@ class SceneConfig:
     gown: GownConfig = field(default_factory=GownConfig)
     cloth: ClothConfig = field(default_factory=ClothConfig)
     human: HumanConfig = field(default_factory=HumanConfig)
+    gripper: GripperConfig = field(default_factory=GripperConfig)
     dt: float = SIM_DT  # s, one simulation step
     frame_skip: int = FRAME_SKIP  # simulation steps per policy step (see scene/clock.py)
     settle_steps: int = 200  # simulation steps to let the held gown come to rest, once
@@ -89,7 +90,7 @@ class Scene:
             effector_body=self.human.body_names.index("hand_r"),
         )
         self.cloth = Cloth(mesh, bodies, config.cloth, dt=config.dt, device=config.device)
-        self.hoop = Hoop(self.human, g.positions[g.feature_loop])
+        self.hoop = Hoop(self.human, g.positions[g.feature_loop], config.gripper)
         self._rest_shape = _settled_shape(self)
         self.gripper_pose = IDENTITY_POSE.copy()
         self.failed = False
@@ -106,7 +107,7 @@ class Scene:
         self.gripper_pose = np.asarray(gripper_pose, dtype=float).copy()
         self.cloth.set_state(transform_points(self.gripper_pose, self._rest_shape))
         self.cloth.set_gripper(self.gripper_pose, self.gripper_pose)
-        self.hoop.set_pose(self.gripper_pose)
+        self.hoop.reset(self.gripper_pose)
         self._transforms = self.human.body_transforms()
         self._capsules = self.human.capsules(self._transforms)
         self._body_forces = np.zeros((len(self.human.body_names), 3))
@@ -120,23 +121,23 @@ class Scene:
         self.time = 0.0
 
     def step(self, action: np.ndarray, gripper_pose: np.ndarray) -> StepInfo:
-        """Advance one policy step toward ``gripper_pose``; never raises on divergence."""
+        """Advance one policy step, the gripper driven toward ``gripper_pose`` (where it ends,
+        ``gripper_pose`` after the step, is short of it where the body stopped the rim); never
+        raises on divergence."""
         if self.failed:
             return StepInfo(True, self.failure_reason)
         self.human.set_action(action)
         start, end = self.gripper_pose, np.asarray(gripper_pose, dtype=float)
         self.cloth.clear_haptics()
         n = self.config.frame_skip
-        poses = [interpolate_pose(start, end, k / n) for k in range(n + 1)]
         self.contact_force = np.zeros(3)
         hoop_forces = np.zeros_like(self.haptic_forces)
         hoop_sides = np.zeros_like(self.haptic_sides)
-        for k in range(n):
-            self._frame(poses[k], poses[k + 1])
+        for k in range(1, n + 1):
+            self._frame(interpolate_pose(start, end, k / n))
             self.contact_force += self._body_forces.sum(axis=0) / n
-            self._add_hoop_contacts(poses[k + 1], hoop_forces, hoop_sides)
+            self._add_hoop_contacts(self.gripper_pose, hoop_forces, hoop_sides)
         self.contact_force += hoop_forces.sum(axis=0) / n
-        self.gripper_pose = end.copy()
         forces, sides = self.cloth.haptics()
         self.haptic_forces = (forces + hoop_forces) / n
         self.haptic_sides = sides + hoop_sides
@@ -147,16 +148,19 @@ class Scene:
             self.failure_reason = reason
         return StepInfo(self.failed, self.failure_reason)
 
-    def _frame(self, gripper_prev: np.ndarray, gripper: np.ndarray) -> None:
+    def _frame(self, command: np.ndarray) -> None:
+        """One simulation step: the human and the driven rim in DART, then the cloth against
+        the human's new capsules, its held loop moved to where the rim went."""
         human = self.human
-        capsules_prev = self._capsules
-        self.hoop.set_pose(gripper)
+        capsules_prev, held_prev = self._capsules, self.gripper_pose
+        self.hoop.drive(command)
         human.step(self._body_forces, self._body_torques)
+        self.gripper_pose = self.hoop.pose()
         T = human.body_transforms()
         self._transforms = T
         self._capsules = human.capsules(T)
         self.cloth.set_body(capsules_prev, self._capsules, T[:, :3, 3], human.sensors(T))
-        self.cloth.set_gripper(gripper_prev, gripper)
+        self.cloth.set_gripper(held_prev, self.gripper_pose)
         self.cloth.step()
         self._body_forces, self._body_torques = self.cloth.body_wrenches()
 
