@@ -30,6 +30,9 @@ RUNS = {  # learning summary stem: label
     "front_linear-complete-trpo-delta-curriculum-s0": "front_linear: default recipe (s7)",
     "front_linear-complete-trpo-delta-curriculum-tear3-s0": "front_linear: + tear limit 3 (600k)",
     "../front_linear-complete-trpo-delta-curriculum-tear202-s0": "front_linear: + tear limit 2.02",
+    "side_linear-probe-std03-s0": "side_linear: + tear limit, action std 0.3 (probe, s9)",
+    "front_linear-candidate-std03-promote05-s0": "front_linear: std 0.3, promotion at 50% (s10)",
+    "side_linear-candidate-std03-promote05-s0": "side_linear: std 0.3, promotion at 50% (s10)",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 
