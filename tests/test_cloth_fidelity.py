@@ -8,6 +8,7 @@ from functools import cache
 
 import numpy as np
 import pytest
+from capsules import capsule_depth, limb_depth
 
 import dressbench
 from dressbench.plugins import load_human, load_robot
@@ -44,20 +45,6 @@ def _env(robot: str, vertices: int, horizon: int):
 def triangle_areas(x: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
     return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
-
-
-def capsule_depth(points: np.ndarray, capsules: np.ndarray, radii: np.ndarray) -> np.ndarray:
-    """(P, C) how deep each point lies inside each capsule (negative outside)."""
-    a, b = capsules[:, 0], capsules[:, 1]
-    ab = b - a
-    p = points[:, None, :]
-    t = np.clip(((p - a) * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
-    return radii - np.linalg.norm(p - (a + t[..., None] * ab), axis=-1)
-
-
-def limb_depth(scene: Scene, points: np.ndarray) -> np.ndarray:
-    """(P, C) how deep each point lies inside each of the human's capsules."""
-    return capsule_depth(points, scene.human.capsules(scene.transforms), scene.human.capsule_radius)
 
 
 def yarn_edges(gown) -> np.ndarray:

@@ -3,6 +3,7 @@ back, the same inputs give the same trajectory, and bad input is refused or flag
 
 import numpy as np
 import pytest
+from capsules import limb_depth
 
 from dressbench import metrics
 from dressbench.bench import reach_action
@@ -89,19 +90,8 @@ def assert_contact_invariants(scene: Scene) -> bool:
 
 def assert_no_deep_penetration(scene: Scene, x: np.ndarray) -> None:
     free = np.setdiff1d(np.arange(len(x)), scene.pinned)
-    depth = depth_in_body(scene, x[free]).max()
+    depth = limb_depth(scene, x[free]).max()
     assert depth < 1e-3, f"a cloth vertex is {depth * 1e3:.1f} mm inside a capsule"
-
-
-def depth_in_body(scene: Scene, points: np.ndarray) -> np.ndarray:
-    """How deep each point is inside the human's capsules (m; negative outside)."""
-    caps = scene.human.capsules(scene.transforms)
-    a, b = caps[:, 0], caps[:, 1]
-    ab = b - a
-    p = points[:, None, :]
-    t = np.clip(((p - a) * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
-    dist = np.linalg.norm(p - (a + t[..., None] * ab), axis=-1)
-    return (scene.human.capsule_radius - dist).max(axis=1)
 
 
 def test_the_cloth_stops_an_arm_sweeping_into_the_opening_across_its_rim(scene):
@@ -142,7 +132,7 @@ def test_the_robot_cannot_push_the_held_rim_through_the_body(scene):
         command = pose(start - [0.01 * k, 0.0, 0.0])
         scene.step(np.zeros(11), command)
         ring = transform_points(scene.gripper_pose, rim)
-        deepest = max(deepest, float(depth_in_body(scene, ring).max()))
+        deepest = max(deepest, float(limb_depth(scene, ring).max()))
     assert deepest < 0.0  # the rim's 6 mm capsules keep its loop out of the skin
     assert scene.gripper_pose[0] - command[0] > 0.1  # it stopped against the chest
 

@@ -52,7 +52,9 @@ class Hoop:
         for a, b in zip(closed[:-1], closed[1:], strict=True):
             _add_capsule(body, a, b, config.radius)
         body.setMass(config.mass)
-        inertia = config.mass * float(np.mean(np.sum(ring**2, axis=1)))  # a ring's, about any axis
+        # m r^2, a ring's moment about its axis, taken for all three axes (the servo, not the
+        # inertia, decides how the rim moves)
+        inertia = config.mass * float(np.mean(np.sum(ring**2, axis=1)))
         body.setMomentOfInertia(inertia, inertia, inertia, 0.0, 0.0, 0.0)
         body.setGravityMode(False)  # the robot carries its weight
         joint.setActuatorType(dart.dynamics.ActuatorType.SERVO)
