@@ -308,7 +308,7 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     "--action-std",
     type=click.FloatRange(min=0.0, min_open=True),
     default=None,
-    help="Initial std of the policy's actions (default: the recipe's, 1).",
+    help="Initial std of the policy's actions (default: the recipe's: 0.5; paper: 1).",
 )
 @click.option(
     "--haptics",

@@ -42,9 +42,10 @@ class TrainConfig:
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
-    # the initial std of the policy's Gaussian actions (SB3's default, 1); with "delta" actions
-    # the noise random-walks the PD targets, so a wide one carries a near start away
-    action_std: float = 1.0
+    # the initial std of the policy's Gaussian actions; with "delta" actions the noise
+    # random-walks the PD targets, so SB3's default of 1 carries a near start away, while 0.3
+    # explores too little from rest once the curriculum is over (docs/training.md)
+    action_std: float = 0.5
     # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
     # pose, so a near start of the curriculum stays near), or torques
     actuation: str = "delta"
@@ -104,15 +105,15 @@ class TrainConfig:
     @classmethod
     def preset(cls, recipe: str = "default", **changes) -> TrainConfig:
         """A named recipe with ``changes`` on top. "paper" is Clegg et al.'s published setting:
-        TRPO, torque = action x 10 N m, 50,000-sample batches, forces in newtons, no curriculum,
-        the whole reward from the first step."""
+        TRPO, torque = action x 10 N m, 50,000-sample batches, forces in newtons, actions of
+        std 1 at first, no curriculum, the whole reward from the first step."""
         if recipe not in RECIPES:
             raise ValueError(f"unknown recipe {recipe!r}: choose one of {', '.join(RECIPES)}")
         base = {"recipe": recipe}
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
-                     "haptics": "newtons", "norm_epsilon": 1e-8, "curriculum": None,
-                     "warmup": None, "tear": None}  # fmt: skip
+                     "haptics": "newtons", "norm_epsilon": 1e-8, "action_std": 1.0,
+                     "curriculum": None, "warmup": None, "tear": None}  # fmt: skip
         return cls(**(base | changes))
 
     @property

@@ -27,7 +27,7 @@ class CurriculumConfig:
     first_reach: float = 0.05  # m: at the first level the fingertip starts up to this far away
     step: float = 0.05  # m the reach widens by at each promotion
     last_reach: float = 0.35  # m: past this the curriculum ends and every start is at rest
-    promote_at: float = 0.6  # hand-in rate of the recent near starts that earns a promotion
+    promote_at: float = 0.5  # hand-in rate of the recent near starts that earns a promotion
     window: int = 40  # near-start episodes the rate is taken over
     hand_in: float = 0.18  # m of final arm progress that counts as the hand in
 
