@@ -302,6 +302,15 @@ def test_a_run_folder_moved_to_another_place_resumes_there(tmp_path):
     assert steps.max() == 256  # the first session's log was kept, its steps not trained again
 
 
+def test_a_run_resumed_with_more_env_processes_keeps_the_size_of_its_updates(tmp_path):
+    first = tiny_config(tmp_path, timesteps=256, name="grown")  # one env: 128 steps an update
+    train(first, progress=False)
+    path = train(replace(first, timesteps=768, envs=2), progress=False)  # 64 steps from each env
+    assert json.loads(path.read_text())["steps"] == 768
+    logged = pd.read_csv(tmp_path / "runs" / "grown" / "logs" / "progress.csv")
+    assert logged["time/total_timesteps"].tolist() == [384, 512, 640, 768]
+
+
 def test_a_stopped_training_saves_its_checkpoint_where_it_stopped_and_says_so(tmp_path):
     """`kill` (SIGTERM) or Ctrl-C: the checkpoint is saved at that step, one line says how to
     go on, and nothing trained is lost."""

@@ -143,3 +143,8 @@ class TrainConfig:
     @property
     def n_envs(self) -> int:
         return self.envs or os.cpu_count() or 1
+
+    @property
+    def rollout_steps(self) -> int:
+        """Steps each env takes per update: the update's samples shared among the envs."""
+        return max(self.samples_per_update // self.n_envs, 64)

@@ -148,15 +148,18 @@ class TrainingRun:
         return int(np.random.SeedSequence([self.config.seed, done]).generate_state(1)[0])
 
     def _model(self, venv: VecNormalize):
-        """A fresh learner, or the checkpointed one and how many steps it has done."""
+        """A fresh learner, or the checkpointed one and how many steps it has done; a run may
+        be resumed with another number of envs (a machine with more or fewer cores), and its
+        updates keep their size."""
         algorithm = _algorithm(self.config.algo)
         if self.model_path.exists():
-            model = algorithm.load(str(self.model_path), env=venv, device="cpu")
+            model = algorithm.load(str(self.model_path), env=venv, device="cpu",
+                                   n_steps=self.config.rollout_steps)  # fmt: skip
             torch.manual_seed(self._episode_seed())  # the actions' noise continues seeded too
             return model, int(model.num_timesteps)
         cfg = self.config
         kwargs = {
-            "n_steps": max(cfg.samples_per_update // cfg.n_envs, 64),
+            "n_steps": cfg.rollout_steps,
             "gamma": cfg.gamma,
             "gae_lambda": cfg.gae_lambda,
             "seed": cfg.seed,
