@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
-from .env import HUMAN, ROBOT, DressingEnv, describe_robot, robot_action_problem
+from .env import HUMAN, ROBOT, ROBOT_MAX_SPEED, DressingEnv, describe_robot, robot_action_problem
 
 
 class HumanEnv(gym.Env):
@@ -27,6 +28,15 @@ class HumanEnv(gym.Env):
         observations, infos = self.env.reset(seed=seed, options=options)
         self._robot_obs = observations[ROBOT]
         return observations[HUMAN], infos[HUMAN]
+
+    def robot_first_move(self) -> np.ndarray | None:
+        """The gripper velocity (m/s) the robot strategy will command at its next step, asked of
+        a copy so the strategy itself is untouched; None if it cannot be copied."""
+        try:
+            strategy = copy.deepcopy(self.env.robot_strategy)
+        except (TypeError, copy.Error):  # e.g. it holds a handle or a lock
+            return None
+        return np.asarray(strategy.act(self._robot_obs), dtype=float) * ROBOT_MAX_SPEED
 
     def step(self, action: np.ndarray):
         strategy = self.env.robot_strategy
