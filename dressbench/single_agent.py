@@ -29,7 +29,7 @@ class HumanEnv(gym.Env):
         self._robot_obs = observations[ROBOT]
         return observations[HUMAN], infos[HUMAN]
 
-    def robot_first_move(self) -> np.ndarray | None:
+    def robot_next_move(self) -> np.ndarray | None:
         """The gripper velocity (m/s) the robot strategy will command at its next step, asked of
         a copy so the strategy itself is untouched; None if it cannot be copied."""
         try:

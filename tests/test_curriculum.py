@@ -16,7 +16,7 @@ def near_start(robot: str, seed: int):
     human_env = make_human_env(robot, scene=actuated_scene("delta"))
     env = NearStarts(human_env, CurriculumConfig(share=1.0))
     _, info = env.reset(seed=seed)
-    move = env.unwrapped.robot_first_move()
+    move = env.unwrapped.robot_next_move()
     scene = env.unwrapped.env.scene
     tip, wrist = scene.human.arm_chain(scene.human.body_transforms())[:2]
     plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
@@ -66,7 +66,7 @@ def test_asking_for_the_robots_first_move_leaves_the_strategy_and_its_episode_un
         env.reset(seed=5)
         moves, rest = [], np.zeros(env.action_space.shape)
         for _ in range(3):
-            moves.append(env.robot_first_move() if ask else None)
+            moves.append(env.robot_next_move() if ask else None)
             env.step(rest)
         env.close()
         return moves, env.env.scene.gripper_pose.copy()

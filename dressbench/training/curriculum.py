@@ -71,7 +71,7 @@ class NearStarts(gym.Wrapper):
             if seed is None:  # both resets below must start the same episode
                 seed = int(self._rng.integers(2**32))
             self.env.reset(seed=seed, options=options)
-            self._approach = self.env.unwrapped.robot_first_move()
+            self._approach = self.env.unwrapped.robot_next_move()
             options = (options or {}) | {"human_start": self._start_pose}
         observation, info = self.env.reset(seed=seed, options=options)
         return observation, info | {"near_start": self._distance}
