@@ -74,3 +74,17 @@ def test_asking_for_the_robots_first_move_leaves_the_strategy_and_its_episode_un
     (first, second, third), asked = episode(ask=True)
     assert np.dot(first, second) > 0.0 and np.dot(second, third) == 0.0  # each the next one
     assert np.array_equal(asked, episode(ask=False)[1])
+
+
+def test_the_judges_trials_all_start_near_and_training_goes_back_to_its_share():
+    env = NearStarts(make_human_env("fixed", gown_vertices=600), CurriculumConfig(share=0.0))
+    env.set_trials(True)
+    trials = [env.reset(seed=seed)[1]["near_start"] for seed in (1, 2)]
+    env.set_trials(False)
+    assert all(0.0 < d <= env.reach for d in trials) and env.reset(seed=3)[1]["near_start"] == 0
+    env.close()
+
+
+def test_a_curriculum_with_an_unknown_judge_is_refused():
+    with pytest.raises(ValueError, match="unknown judge"):
+        CurriculumConfig(judge="eyeballed")

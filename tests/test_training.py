@@ -62,16 +62,23 @@ def test_run_json_records_steps_wall_time_and_speed(tmp_path):
     assert json.loads(files[2].read_text())["result"] == result  # a summary carries its config
 
 
-def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path):
-    coach = CurriculumConfig(share=1.0, window=2, promote_at=0.0)  # promote after 2 episodes
+@pytest.mark.parametrize(
+    "coach",
+    [CurriculumConfig(share=1.0, judge="training", window=2, promote_at=0.0),  # after 2 episodes
+     CurriculumConfig(share=1.0, trials=2, judge_every=128, promote_at=0.0)],  # after each update
+    ids=["judged-on-training-episodes", "judged-on-trials-of-the-mean"],
+)  # fmt: skip
+def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path, coach):
     config = tiny_config(tmp_path, timesteps=256, name="coached", curriculum=coach)
-    train(config, progress=False)
+    assert json.loads(train(config, progress=False).read_text())["steps"] == 256
     folder = tmp_path / "runs" / "coached"
     reach = json.loads((folder / "checkpoint.json").read_text())["curriculum_reach"]
     assert reach > coach.first_reach
-    logged = pd.read_csv(folder / "logs" / "progress.csv")["curriculum/reach"]
-    assert logged.is_monotonic_increasing and logged.iloc[-1] == pytest.approx(reach)
-    assert json.loads((folder / "run.json").read_text())["config"]["curriculum"]["share"] == 1.0
+    logged = pd.read_csv(folder / "logs" / "progress.csv")
+    assert logged["curriculum/reach"].is_monotonic_increasing
+    assert logged["curriculum/reach"].iloc[-1] == pytest.approx(reach)
+    assert ("curriculum/trial_hand_in_rate" in logged) == (coach.judge == "mean")
+    assert json.loads((folder / "run.json").read_text())["config"]["curriculum"] == asdict(coach)
 
 
 def test_the_paper_recipe_trains_torques_and_its_policy_is_scored_with_torques(

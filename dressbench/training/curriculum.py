@@ -20,6 +20,9 @@ if TYPE_CHECKING:
     from ..scene.world import Scene
 
 
+JUDGES = ("mean", "training")
+
+
 @dataclass(frozen=True)
 class CurriculumConfig:
     """How near starts are drawn and how they widen."""
@@ -29,7 +32,14 @@ class CurriculumConfig:
     step: float = 0.05  # m the reach widens by at each promotion
     last_reach: float = 0.35  # m: past this the curriculum ends and every start is at rest
     promote_at: float = 0.5  # hand-in rate of the recent near starts that earns a promotion
-    window: int = 40  # near-start episodes the rate is taken over
+    # what the rate is taken over: "mean", ``trials`` near starts played with the policy's mean
+    # actions every ``judge_every`` steps (a coach judging the person's own attempt, not the
+    # noise of exploration, which random-walks ``delta`` targets: docs/training.md, session
+    # 13); "training", the last ``window`` near starts among the training episodes
+    judge: str = "mean"
+    trials: int = 8
+    judge_every: int = 20_000  # environment steps
+    window: int = 40
     hand_in: float = 0.18  # m of final arm progress that counts as the hand in
 
     def __post_init__(self) -> None:
@@ -37,6 +47,11 @@ class CurriculumConfig:
             raise ValueError(f"share must be in [0, 1], got {self.share}")
         if not 0.0 < self.first_reach <= self.last_reach:
             raise ValueError("need 0 < first_reach <= last_reach")
+        if self.judge not in JUDGES:
+            raise ValueError(f"unknown judge {self.judge!r}: use one of {', '.join(JUDGES)}")
+        for field in ("trials", "judge_every", "window"):
+            if not getattr(self, field) >= 1:
+                raise ValueError(f"{field} must be >= 1, got {getattr(self, field)}")
 
 
 class NearStarts(gym.Wrapper):
@@ -57,15 +72,21 @@ class NearStarts(gym.Wrapper):
         self._rng = np.random.default_rng(seed)
         self._distance = 0.0
         self._approach: np.ndarray | None = None
+        self._trials = False
 
     def set_reach(self, reach: float) -> None:
         """The curriculum's level: how far in front of the opening a near start may be."""
         self.reach = float(reach)
 
+    def set_trials(self, trials: bool) -> None:
+        """While on, every episode is a near start at the current level (the judge's trials)."""
+        self._trials = bool(trials)
+
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         if seed is not None:
             self._rng = np.random.default_rng([seed, 1])
-        near = self.reach <= self.config.last_reach and self._rng.random() < self.config.share
+        share = 1.0 if self._trials else self.config.share
+        near = self.reach <= self.config.last_reach and self._rng.random() < share
         self._distance = float(self._rng.uniform(0.02, self.reach)) if near else 0.0
         if near:
             if seed is None:  # both resets below must start the same episode

@@ -346,16 +346,20 @@ class _Progress(BaseCallback):
 
 
 class CurriculumLevels(BaseCallback):
-    """Widens the near starts when the policy gets the hand in from most of them."""
+    """Widens the near starts when the policy gets the hand in from most of them: its mean
+    actions on a few trial near starts every ``judge_every`` steps (``judge="mean"``), or the
+    recent near starts of training (``judge="training"``)."""
 
     def __init__(self, config: CurriculumConfig, reach: float) -> None:
         super().__init__()
         self.config = config
         self.reach = reach
         self.recent: deque[bool] = deque(maxlen=config.window)
+        self.judged = 0  # steps done at the last judgement (or the start)
 
     def _on_training_start(self) -> None:
         self.training_env.env_method("set_reach", self.reach)
+        self.judged = self.num_timesteps
 
     def _on_step(self) -> bool:
         for info in self.locals.get("infos", []):
@@ -363,14 +367,51 @@ class CurriculumLevels(BaseCallback):
             if episode is not None and episode["near_start"] > 0.0:
                 self.recent.append(episode["arm_progress"] >= self.config.hand_in)
         full = len(self.recent) == self.recent.maxlen
-        if full and np.mean(self.recent) >= self.config.promote_at:
-            self.reach += self.config.step
-            self.recent.clear()
-            self.training_env.env_method("set_reach", self.reach)
+        if self.config.judge == "training" and full:
+            self._promote_if(float(np.mean(self.recent)))
         self.logger.record("curriculum/reach", self.reach)
         if self.recent:
             self.logger.record("curriculum/hand_in_rate", float(np.mean(self.recent)))
         return True
+
+    def _on_rollout_end(self) -> None:
+        """Judge between rollouts, once their returns are computed, while the curriculum runs."""
+        cfg = self.config
+        due = self.num_timesteps - self.judged >= cfg.judge_every
+        if cfg.judge != "mean" or not due or self.reach > cfg.last_reach:
+            return
+        self.judged = self.num_timesteps
+        rate = float(np.mean(self._trials()))
+        self._promote_if(rate)
+        self.logger.record("curriculum/trial_hand_in_rate", rate)
+        self.logger.record("curriculum/reach", self.reach)
+
+    def _promote_if(self, rate: float) -> None:
+        if rate >= self.config.promote_at:
+            self.reach += self.config.step
+            self.recent.clear()
+            self.training_env.env_method("set_reach", self.reach)
+
+    def _trials(self) -> list[bool]:
+        """Whether the hand got in, for ``trials`` near starts played with the policy's mean
+        actions on the training envs (their normalization frozen); the envs then start afresh,
+        their unfinished episodes cut (as at a rollout's end, their returns are already taken)."""
+        venv, model = self.training_env, self.model
+        learning, venv.training = venv.training, False
+        venv.env_method("set_trials", True)
+        observation, results = venv.reset(), []
+        try:
+            while len(results) < self.config.trials:
+                action, _ = model.predict(observation, deterministic=True)
+                observation, _, dones, infos = venv.step(action)
+                ended = [info["episode"] for done, info in zip(dones, infos, strict=True) if done]
+                results += [episode["arm_progress"] >= self.config.hand_in for episode in ended]
+        finally:
+            venv.env_method("set_trials", False)
+            venv.training = learning
+            model._last_obs = venv.reset()
+            model._last_episode_starts = np.ones(venv.num_envs, dtype=bool)
+        return results[: self.config.trials]
 
 
 class Warmup(BaseCallback):
