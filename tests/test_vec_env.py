@@ -66,7 +66,7 @@ def test_it_needs_two_envs():
 
 
 def test_a_run_with_two_env_processes_trains_and_coaches_both(tmp_path):
-    coach = CurriculumConfig(share=1.0, trials=3, judge_every=128, promote_at=0.0)  # each update
+    coach = CurriculumConfig(share=1.0, judge="mean", trials=3, judge_every=128, promote_at=0.0)
     config = TrainConfig(gown_vertices=600, horizon=32, samples_per_update=128, envs=2,
                          timesteps=256, curriculum=coach, name="two", out=str(tmp_path / "runs"),
                          policies=str(tmp_path / "policies"))  # fmt: skip

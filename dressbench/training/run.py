@@ -346,9 +346,9 @@ class _Progress(BaseCallback):
 
 
 class CurriculumLevels(BaseCallback):
-    """Widens the near starts when the policy gets the hand in from most of them: its mean
-    actions on a few trial near starts every ``judge_every`` steps (``judge="mean"``), or the
-    recent near starts of training (``judge="training"``)."""
+    """Widens the near starts when the policy gets the hand in from most of them: the recent
+    near starts of training (``judge="training"``), or its mean actions on a few trial near
+    starts every ``judge_every`` steps (``judge="mean"``)."""
 
     def __init__(self, config: CurriculumConfig, reach: float) -> None:
         super().__init__()
