@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import gymnasium as gym
 import numpy as np
 
+from ..checks import check_int
 from ..metrics import feature_plane
 
 if TYPE_CHECKING:
@@ -50,8 +51,7 @@ class CurriculumConfig:
         if self.judge not in JUDGES:
             raise ValueError(f"unknown judge {self.judge!r}: use one of {', '.join(JUDGES)}")
         for field in ("trials", "judge_every", "window"):
-            if not getattr(self, field) >= 1:
-                raise ValueError(f"{field} must be >= 1, got {getattr(self, field)}")
+            check_int(getattr(self, field), field, 1)
 
 
 class NearStarts(gym.Wrapper):
