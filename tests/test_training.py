@@ -22,7 +22,12 @@ from dressbench.evaluation import evaluate, leaderboard, make_cell
 from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
-from dressbench.training.summary import write_learning_summary
+from dressbench.training.summary import (
+    STEPS,
+    comparison_figure,
+    write_learning_comparison,
+    write_learning_summary,
+)
 from dressbench.training.tear import TearConfig, TornGown
 from dressbench.training.warmup import DeformationShare, WarmupConfig
 
@@ -60,6 +65,21 @@ def test_run_json_records_steps_wall_time_and_speed(tmp_path):
     files = write_learning_summary(tmp_path / "runs" / "timed", tmp_path / "summary")
     assert [f.name for f in files] == ["timed-progress.csv", "timed-learning.png", "timed-run.json"]
     assert json.loads(files[2].read_text())["result"] == result  # a summary carries its config
+
+
+def test_a_comparison_draws_each_runs_learning_curve_on_shared_axes(tmp_path):
+    progress = {}
+    for label, rate in (("default recipe", 0.4), ("paper's preset", 0.1)):
+        table = pd.DataFrame({STEPS: [4096, 8192, 12288],
+                              "rollout/final_arm_progress": [0.0, rate / 2, rate]})  # fmt: skip
+        progress[label] = tmp_path / f"{label}.csv"
+        table.to_csv(progress[label], index=False)
+    png = write_learning_comparison(progress, tmp_path / "figures" / "recipes.png", "fixed")
+    assert png.read_bytes().startswith(b"\x89PNG")
+    figure = comparison_figure({k: pd.read_csv(v) for k, v in progress.items()}, "fixed")
+    arm = next(a for a in figure.axes if a.get_title() == "final arm progress")
+    assert [line.get_label() for line in arm.lines] == list(progress)
+    assert [line.get_ydata()[-1] for line in arm.lines] == [0.4, 0.1]
 
 
 @pytest.mark.parametrize(

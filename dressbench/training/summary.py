@@ -7,6 +7,7 @@ what a reader of ``results/training/`` looks at first; the table is what it was 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -54,8 +55,8 @@ def training_seconds(table: pd.DataFrame) -> float:
 
 def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     """Return, final arm progress, max deformation and failure rate against environment steps."""
-    figure = Figure(figsize=(4.3 * len(PANELS), 3.8), layout="constrained")
-    for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
+    figure, panels = _panels(title)
+    for axes, column in panels:
         if column in table and table[column].notna().any():
             axes.plot(table[STEPS], table[column], label="all episodes")
             for _, extra, label in (o for o in OVERLAYS if o[0] == column):
@@ -64,10 +65,19 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
                     axes.legend(fontsize=8)
         else:  # a run logged before this column existed
             axes.text(0.5, 0.5, "not logged in this run", ha="center", transform=axes.transAxes)
+    return figure
+
+
+def _panels(title: str) -> tuple[Figure, list]:
+    """A figure of one titled axes per ``PANELS`` entry, and (axes, column) for each."""
+    figure = Figure(figsize=(4.3 * len(PANELS), 3.8), layout="constrained")
+    figure.suptitle(title)
+    panels = []
+    for axes, (column, name, unit) in zip(figure.subplots(1, len(PANELS)), PANELS, strict=True):
         axes.set(title=name, xlabel="environment steps", ylabel=unit)
         axes.grid(alpha=0.3)
-    figure.suptitle(title)
-    return figure
+        panels.append((axes, column))
+    return figure, panels
 
 
 def write_learning_summary(
@@ -96,3 +106,27 @@ def write_learning_table(table: pd.DataFrame, name: str, out: Path) -> list[Path
     write_csv(csv_path, table)
     write_png(png_path, learning_figure(table, f"training run {name}"))
     return [csv_path, png_path]
+
+
+def comparison_figure(tables: Mapping[str, pd.DataFrame], title: str) -> Figure:
+    """The panels of ``learning_figure`` with one curve per run (``tables``: label -> table), so
+    that runs of different recipes or seeds read against one another."""
+    figure, panels = _panels(title)
+    for axes, column in panels:
+        for label, table in tables.items():
+            if column in table and table[column].notna().any():
+                axes.plot(table[STEPS], table[column], label=label)
+    panels[0][0].legend(fontsize=8)
+    return figure
+
+
+def write_learning_comparison(
+    progress: Mapping[str, str | Path], out: str | Path, title: str
+) -> Path:
+    """Draw the learning summaries' tables (``progress``: label -> ``NAME-progress.csv``) on
+    shared axes into the PNG ``out``."""
+    tables = {label: pd.read_csv(path) for label, path in progress.items()}
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    write_png(out, comparison_figure(tables, title))
+    return out
