@@ -184,11 +184,14 @@ def bench(
         from .training.bench import bench_training
 
         for n in vertices or (2000,):
-            single, run = bench_training(n, train_steps, steps, repeats, train_envs)
-            show(single)
-            show(run)
+            single, alone, run = bench_training(n, train_steps, steps, repeats, train_envs)
+            for row in (single, alone, run):
+                show(row)
+            say(f"its envs alone: {100 * alone['share_of_cores']:.0f}% of {run['envs']} cores x "
+                f"the env step")  # fmt: skip
             say(f"training: {100 * run['share_of_cores']:.0f}% of {run['envs']} cores x the env "
-                f"step (issue 12's target: 85%)")  # fmt: skip
+                f"step (issue 12's target: 85%), {100 * run['share_of_envs']:.0f}% of its envs "
+                f"alone")  # fmt: skip
     if not (compare or train_run):
         for n in vertices or ((2000,) if quick else (1000, 2000, 4000)):
             for row in bench_scene(n, steps, device, repeats):

@@ -109,9 +109,12 @@ def test_train_reports_env_steps_per_second_and_leaves_no_runs_or_policies(tmp_p
         main, ["bench", "--train", "--train-steps", "128", "--train-envs", "1", *TINY, "--json"]
     )
     assert result.exit_code == 0, result.output
-    single, train = json_rows(result.output)
-    assert (single["what"], train["what"]) == ("env", "train")
-    assert single["steps_per_second"] > 0 and train["steps_per_second"] > 0
-    assert train["envs"] == 1 and train["share_of_cores"] > 0
+    single, alone, train = json_rows(result.output)
+    assert (single["what"], alone["what"], train["what"]) == ("env", "envs", "train")
+    assert all(row["steps_per_second"] > 0 for row in (single, alone, train))
+    assert alone["envs"] == train["envs"] == 1 and alone["steps"] == 5  # --steps, per env process
+    assert train["share_of_envs"] == pytest.approx(
+        train["steps_per_second"] / alone["steps_per_second"], abs=0.01
+    )
     assert not (tmp_path / "policies").exists() and not (tmp_path / "runs").exists()
     assert list(tmp_path.iterdir()) == []

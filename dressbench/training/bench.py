@@ -2,14 +2,17 @@
 
 A short run of the default recipe trains in a temporary folder (its run folder and its policy
 file are thrown away), and its environment steps per second are set against the cores' worth
-of single-process env steps: issue 12's target is 85% of (cores x the single env step).
-"""
+of single-process env steps: issue 12's target is 85% of (cores x the single env step). Between
+the two, the run's own envs stepped alone (its env processes at once, no learner) tell the
+cores' scaling apart from what the training loop costs."""
 
 from __future__ import annotations
 
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 from ..bench import bench_env
 from .config import TrainConfig
@@ -26,18 +29,23 @@ def bench_training(
     repeats: int = 3,
     envs: int = 0,
 ) -> list[dict]:
-    """Time a short training run of the default recipe and the bare single env step.
+    """Time a short training run of the default recipe, its envs alone and the bare env step.
 
     Returns the env row of ``dressbench.bench.bench_env`` (``env_steps`` steps, best of
-    ``repeats``) and a ``train`` row: SB3's own environment steps per second of learning (at
-    its last logged update), the wall seconds of the whole call, the env processes, and
-    ``share_of_cores``, the training rate over (env processes x the single env step rate).
+    ``repeats``), an ``envs`` row (``bench_training_envs``: the run's env processes stepped
+    alone, ``env_steps`` steps each) and a ``train`` row: SB3's own environment steps per
+    second of learning (at its last logged update), the wall seconds of the whole call, the env
+    processes. ``share_of_cores`` is a row's rate over (env processes x the single env step
+    rate); the train row's ``share_of_envs``, its rate over the envs row's.
     """
     with tempfile.TemporaryDirectory(prefix="dressbench-train-bench-") as folder:
         config = bench_config(vertices, timesteps, envs, Path(folder))  # checked before work
         single = bench_env(vertices, env_steps, "cpu", repeats)
+        alone = {"vertices": single["vertices"], **bench_training_envs(config, env_steps)}
         rate, seconds = _train_rate(config)
-    share = rate / (config.n_envs * single["steps_per_second"])
+    cores = config.n_envs * single["steps_per_second"]
+    alone["share_of_cores"] = round(alone["steps_per_second"] / cores, 3)
+    share = rate / cores
     train = {
         "vertices": single["vertices"],
         "what": "train",
@@ -48,8 +56,39 @@ def bench_training(
         "sim_failure": False,
         "envs": config.n_envs,
         "share_of_cores": round(share, 3),
+        "share_of_envs": round(rate / alone["steps_per_second"], 3),
     }
-    return [single, train]
+    return [single, alone, train]
+
+
+def bench_training_envs(config: TrainConfig, steps: int, warmup: int = 5) -> dict:
+    """Time the run's training envs stepped alone: ``steps`` steps of every env process at once
+    (after ``warmup`` untimed ones), with actions drawn as the recipe's first policy draws
+    them, N(0, action_std) clipped to [-1, 1]; near starts, resets and wrappers as in training."""
+    from .run import training_envs  # stable-baselines3 loads here
+
+    venv = training_envs(config)
+    try:
+        venv.seed(config.seed)
+        venv.reset()
+        rng = np.random.default_rng(config.seed)
+        shape = (warmup + steps, venv.num_envs, *venv.action_space.shape)
+        actions = np.clip(rng.normal(0.0, config.action_std, shape), -1.0, 1.0)
+        failed = False
+        for action in actions[:warmup]:
+            venv.step(action)
+        start = time.perf_counter()
+        for action in actions[warmup:]:
+            infos = venv.step(action)[3]
+            failed |= any(info.get("sim_failure", False) for info in infos)
+        seconds = time.perf_counter() - start
+    finally:
+        venv.close()
+    total = steps * venv.num_envs
+    return {"what": "envs", "steps": total, "seconds": round(seconds, 1),
+            "steps_per_second": round(total / seconds, 1),
+            "ms_per_step": round(1e3 * seconds / total, 3), "sim_failure": failed,
+            "envs": venv.num_envs}  # fmt: skip
 
 
 def bench_config(vertices: int, timesteps: int, envs: int, folder: Path) -> TrainConfig:

@@ -126,12 +126,7 @@ class TrainingRun:
 
     def _envs(self) -> VecNormalize:
         cfg = self.config
-        factories = [_EnvFactory(cfg, rank) for rank in range(cfg.n_envs)]
-        venv: VecEnv
-        if cfg.n_envs == 1:
-            venv = DummyVecEnv(factories)
-        else:
-            venv = SharedCoreVecEnv(factories, start_method="spawn")
+        venv = training_envs(cfg)
         venv.seed(self._episode_seed())
         if self.norm_path.exists():
             return VecNormalize.load(str(self.norm_path), venv)
@@ -237,6 +232,15 @@ class TrainingRun:
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
                                    clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip
         return Path(json_path)
+
+
+def training_envs(config: TrainConfig) -> VecEnv:
+    """The run's ``n_envs`` training envs (before normalisation): one in this process, or env 0
+    here and the rest in spawned workers (``SharedCoreVecEnv``)."""
+    factories = [_EnvFactory(config, rank) for rank in range(config.n_envs)]
+    if config.n_envs == 1:
+        return DummyVecEnv(factories)
+    return SharedCoreVecEnv(factories, start_method="spawn")
 
 
 class _EnvFactory:
