@@ -122,11 +122,12 @@ def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
 def cross_play_figure(cross: pd.DataFrame) -> Figure:
     """A heat map of each complete human's mean final arm progress on each robot strategy."""
     grid = cross.pivot(index="human", columns="robot", values="final_arm_progress")
-    figure = Figure(figsize=(2.0 + 1.6 * grid.shape[1], 1.5 + 0.6 * grid.shape[0]),
+    labels = 0.08 * max(len(str(name)) for name in grid.index)  # inches the humans' names take
+    figure = Figure(figsize=(2.0 + labels + 1.6 * grid.shape[1], 2.0 + 0.6 * grid.shape[0]),
                     layout="constrained")  # fmt: skip
     axes = figure.subplots()
     image = axes.imshow(grid.to_numpy(), cmap="viridis", vmin=0.0, aspect="auto")
-    axes.set_xticks(range(grid.shape[1]), grid.columns)
+    axes.set_xticks(range(grid.shape[1]), grid.columns, rotation=30, ha="right")
     axes.set_yticks(range(grid.shape[0]), grid.index)
     for (row, column), value in np.ndenumerate(grid.to_numpy()):
         axes.text(column, row, f"{value:.2f}", ha="center", va="center", color="w")

@@ -286,7 +286,7 @@ def _verdict(tests: Sequence[tuple[bool, str]]) -> tuple[str, str]:
 
 def _low_deformation(row: Any, limit: float) -> tuple[bool, str]:
     high = row.max_deformation_ci_high
-    return high < limit, f"{row.role}: max deformation CI high {high:.2f} < {limit:.2f}"
+    return high < limit, f"{row.role}: max deformation CI high {high:.3f} < {limit:.3f}"
 
 
 def _completes(rows: Sequence[Any], limit: float) -> tuple[str, str]:
@@ -312,7 +312,7 @@ def _deforms(rows: Sequence[Any], limit: float) -> tuple[str, str]:
                 f"final arm progress CI low {low:.3f} m > "
                 f"the hand's {STAGE_DEPTHS['hand_in']:.2f} m",
             ),
-            (deform > limit, f"max deformation CI low {deform:.2f} > {limit:.2f}"),
+            (deform > limit, f"max deformation CI low {deform:.3f} > {limit:.3f}"),
         ]
     )
 
