@@ -54,7 +54,11 @@ def results_readme(folder: str | Path) -> str:
         lines += ["## Unfinished training runs", "",
                   "Checkpoints to continue on any machine: copy the folder into `runs/` and run "
                   "`dressbench train` with the options its `run.json` records (for the default "
-                  "recipe, the command below):", ""]  # fmt: skip
+                  "recipe, the command below). A part the command line cannot state (a "
+                  "curriculum's share, say) is resumed exactly as recorded from Python: "
+                  "`train(TrainConfig.from_dict(json.loads(Path('runs/NAME/run.json')"
+                  ".read_text())['config']))` (`from dressbench.training import TrainConfig, "
+                  "train`).", ""]  # fmt: skip
         lines += [_checkpoint_line(run, folder) for run in unfinished]
         lines.append("")
     nested = sorted(p.parent for p in folder.glob("*/**/run_meta.json"))
