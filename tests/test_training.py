@@ -79,6 +79,7 @@ def test_a_comparison_draws_each_runs_learning_curve_on_shared_axes(tmp_path):
     figure = comparison_figure({k: pd.read_csv(v) for k, v in progress.items()}, "fixed")
     arm = next(a for a in figure.axes if a.get_title() == "final arm progress")
     assert [line.get_label() for line in arm.lines] == list(progress)
+    assert arm.get_legend() is not None  # the first panel the runs logged carries the legend
     assert [line.get_ydata()[-1] for line in arm.lines] == [0.4, 0.1]
 
 

@@ -116,7 +116,9 @@ def comparison_figure(tables: Mapping[str, pd.DataFrame], title: str) -> Figure:
         for label, table in tables.items():
             if column in table and table[column].notna().any():
                 axes.plot(table[STEPS], table[column], label=label)
-    panels[0][0].legend(fontsize=8)
+    drawn = [axes for axes, _ in panels if axes.lines]
+    if drawn:  # one legend, on the first panel any run logged
+        drawn[0].legend(fontsize=8)
     return figure
 
 
