@@ -57,15 +57,20 @@ def learning_figure(table: pd.DataFrame, title: str) -> Figure:
     """Return, final arm progress, max deformation and failure rate against environment steps."""
     figure, panels = _panels(title)
     for axes, column in panels:
-        if column in table and table[column].notna().any():
+        if _logged(table, column):
             axes.plot(table[STEPS], table[column], label="all episodes")
             for _, extra, label in (o for o in OVERLAYS if o[0] == column):
-                if extra in table and table[extra].notna().any():
+                if _logged(table, extra):
                     axes.plot(table[STEPS], table[extra], label=label)
                     axes.legend(fontsize=8)
         else:  # a run logged before this column existed
             axes.text(0.5, 0.5, "not logged in this run", ha="center", transform=axes.transAxes)
     return figure
+
+
+def _logged(table: pd.DataFrame, column: str) -> bool:
+    """Whether the run logged ``column`` (a run from before a column existed has none)."""
+    return column in table and bool(table[column].notna().any())
 
 
 def _panels(title: str) -> tuple[Figure, list]:
@@ -114,7 +119,7 @@ def comparison_figure(tables: Mapping[str, pd.DataFrame], title: str) -> Figure:
     figure, panels = _panels(title)
     for axes, column in panels:
         for label, table in tables.items():
-            if column in table and table[column].notna().any():
+            if _logged(table, column):
                 axes.plot(table[STEPS], table[column], label=label)
     drawn = [axes for axes, _ in panels if axes.lines]
     if drawn:  # one legend, on the first panel any run logged
