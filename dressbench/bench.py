@@ -59,8 +59,8 @@ def bench_scene(vertices: int, steps: int, device: str = "cpu", repeats: int = 3
             human_observation(scene, measure(scene))
 
     return [
-        _row(n_vertices, "cloth", steps, _best_time(cloth_alone, repeats)),
-        _row(n_vertices, "scene", steps, _best_time(whole_step, repeats), scene.failed),
+        timing_row(n_vertices, "cloth", steps, _best_time(cloth_alone, repeats)),
+        timing_row(n_vertices, "scene", steps, _best_time(whole_step, repeats), scene.failed),
         bench_env(vertices, steps, device, repeats),
     ]
 
@@ -96,7 +96,7 @@ def bench_env(vertices: int, steps: int, device: str = "cpu", repeats: int = 3) 
             if terminated:
                 break
         best = min(best, elapsed)
-    return _row(len(env.env.scene.gown.positions), "env", steps, best, failed)
+    return timing_row(len(env.env.scene.gown.positions), "env", steps, best, failed)
 
 
 # Assistive Gym's dressing schedule in PyBullet: frames of 0.02 s, 5 to an env step of 0.1 s,
@@ -185,7 +185,7 @@ def bench_pybullet(
     finally:
         p.disconnect(client)
     failed = not np.all(np.isfinite(held))
-    row = _row(gown.num_vertices, "pybullet", steps, seconds, failed)
+    row = timing_row(gown.num_vertices, "pybullet", steps, seconds, failed)
     row["sim_seconds_per_second"] = round(steps * PYBULLET_ENV_DT / seconds, 3)
     row["self_collision"] = self_collision
     return row
@@ -245,7 +245,9 @@ def _best_time(run, repeats: int) -> float:
     return min(times)
 
 
-def _row(vertices: int, what: str, steps: int, seconds: float, failed: bool = False) -> dict:
+def timing_row(vertices: int, what: str, steps: int, seconds: float, failed: bool = False) -> dict:
+    """One row of a benchmark table: ``steps`` steps of ``what`` on a gown of ``vertices`` took
+    ``seconds``."""
     return {
         "vertices": vertices,
         "what": what,

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bench import bench_env
+from ..bench import bench_env, timing_row
 from .config import TrainConfig
 from .summary import learning_table
 
@@ -41,7 +41,7 @@ def bench_training(
     with tempfile.TemporaryDirectory(prefix="dressbench-train-bench-") as folder:
         config = bench_config(vertices, timesteps, envs, Path(folder))  # checked before work
         single = bench_env(vertices, env_steps, "cpu", repeats)
-        alone = {"vertices": single["vertices"], **bench_training_envs(config, env_steps)}
+        alone = bench_training_envs(config, env_steps, single["vertices"])
         rate, seconds = _train_rate(config)
     cores = config.n_envs * single["steps_per_second"]
     alone["share_of_cores"] = round(alone["steps_per_second"] / cores, 3)
@@ -61,10 +61,11 @@ def bench_training(
     return [single, alone, train]
 
 
-def bench_training_envs(config: TrainConfig, steps: int, warmup: int = 5) -> dict:
+def bench_training_envs(config: TrainConfig, steps: int, vertices: int, warmup: int = 5) -> dict:
     """Time the run's training envs stepped alone: ``steps`` steps of every env process at once
     (after ``warmup`` untimed ones), with actions drawn as the recipe's first policy draws
-    them, N(0, action_std) clipped to [-1, 1]; near starts, resets and wrappers as in training."""
+    them, N(0, action_std) clipped to [-1, 1]; near starts, resets and wrappers as in training.
+    ``vertices`` (the gown's, as the env row counts them) labels the row."""
     from .run import training_envs  # stable-baselines3 loads here
 
     venv = training_envs(config)
@@ -85,10 +86,7 @@ def bench_training_envs(config: TrainConfig, steps: int, warmup: int = 5) -> dic
     finally:
         venv.close()
     total = steps * venv.num_envs
-    return {"what": "envs", "steps": total, "seconds": round(seconds, 1),
-            "steps_per_second": round(total / seconds, 1),
-            "ms_per_step": round(1e3 * seconds / total, 3), "sim_failure": failed,
-            "envs": venv.num_envs}  # fmt: skip
+    return {**timing_row(vertices, "envs", total, seconds, failed), "envs": venv.num_envs}
 
 
 def bench_config(vertices: int, timesteps: int, envs: int, folder: Path) -> TrainConfig:
