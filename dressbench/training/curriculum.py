@@ -28,7 +28,7 @@ JUDGES = ("mean", "training")
 class CurriculumConfig:
     """How near starts are drawn and how they widen."""
 
-    share: float = 0.5  # of episodes that start near the opening while the curriculum runs
+    share: float = 0.8  # of episodes that start near the opening while the curriculum runs
     first_reach: float = 0.05  # m: at the first level the fingertip starts up to this far away
     step: float = 0.05  # m the reach widens by at each promotion
     last_reach: float = 0.35  # m: past this the curriculum ends and every start is at rest
