@@ -338,7 +338,7 @@ def train(
     from .training import TrainConfig
     from .training import train as train_policy
     from .training.curriculum import CurriculumConfig
-    from .training.run import TrainingStopped
+    from .training.run import TrainingStopped, continued_config
     from .training.tear import TearConfig
     from .training.warmup import WarmupConfig
 
@@ -356,6 +356,8 @@ def train(
     if no_tear_limit:
         options["tear"] = None
     config = TrainConfig.preset(recipe, **options)
+    if resume:  # an option left out goes on as the run recorded it
+        config = continued_config(config, _given_train_fields(click.get_current_context()))
     config.check()  # the robot loads, the env options are valid: before anything is removed
     if not resume:
         shutil.rmtree(f"{config.out}/{config.run_name}", ignore_errors=True)
@@ -366,6 +368,24 @@ def train(
         click.echo(f"dressbench: {stopped}", err=True)
         raise SystemExit(130) from None
     click.echo(f"policy written to {path}")
+
+
+def _given_train_fields(ctx: click.Context) -> set[str]:
+    """The ``TrainConfig`` fields the command line set: a recipe sets them all."""
+    from dataclasses import fields
+
+    from click.core import ParameterSource
+
+    from .training import TrainConfig
+
+    known = {field.name for field in fields(TrainConfig)}
+    given = {
+        name for name in ctx.params if ctx.get_parameter_source(name) != ParameterSource.DEFAULT
+    }
+    if "recipe" in given:
+        return known
+    renamed = {"tear_limit": "tear", "no_tear_limit": "tear"}
+    return {renamed.get(name, name) for name in given} & known
 
 
 TRAIN_MODULES = {"torch": "torch", "stable_baselines3": "stable-baselines3",

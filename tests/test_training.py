@@ -22,6 +22,7 @@ from dressbench.evaluation import evaluate, leaderboard, make_cell
 from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
+from dressbench.training.run import recorded_config
 from dressbench.training.summary import (
     STEPS,
     comparison_figure,
@@ -328,6 +329,37 @@ def test_a_run_folder_moved_to_another_place_resumes_there(tmp_path):
     assert json.loads(path.read_text())["steps"] == 512
     steps = pd.read_csv(folder / "logs" / "progress-history.csv")["time/total_timesteps"]
     assert steps.max() == 256  # the first session's log was kept, its steps not trained again
+
+
+def test_a_checkpoint_resumes_only_with_the_settings_it_was_trained_on(tmp_path):
+    first = tiny_config(
+        tmp_path, timesteps=128, name="kept", curriculum=CurriculumConfig(share=0.5)
+    )
+    train(first, progress=False)
+    with pytest.raises(ValueError, match=r"curriculum\.share 0\.5 \(now 0\.8\)") as refused:
+        train(replace(first, timesteps=256, curriculum=CurriculumConfig()), progress=False)
+    assert "\n" not in str(refused.value)
+    folder = tmp_path / "runs" / "kept"
+    assert json.loads((folder / "checkpoint.json").read_text())["timesteps"] == 128  # untouched
+    path = train(replace(recorded_config(folder), timesteps=256), progress=False)
+    assert json.loads(path.read_text())["config"]["curriculum"]["share"] == 0.5
+
+
+def test_train_resumes_a_run_as_recorded_with_only_the_options_given_changed(tmp_path):
+    where = ["--out", str(tmp_path / "runs"), "--policies", str(tmp_path / "policies")]
+    tiny = ["--gown-vertices", "600", "--envs", "1", "--action-std", "0.4", "--no-warmup"]
+    first = ["train", "--robot", "side_linear", "--name", "again", *where, *tiny]
+    assert CliRunner().invoke(main, [*first, "--timesteps", "8"]).exit_code == 0
+    again = ["train", "--name", "again", *where, "--timesteps", "16"]  # the rest left out
+    result = CliRunner().invoke(main, again)
+    assert result.exit_code == 0, result.output
+    run = json.loads((tmp_path / "runs" / "again" / "run.json").read_text())
+    assert run["result"]["steps"] == 16
+    assert {key: run["config"][key] for key in ("robot", "action_std", "warmup")} == {
+        "robot": "side_linear", "action_std": 0.4, "warmup": None}  # fmt: skip
+    changed = CliRunner().invoke(main, [*again, "--action-std", "0.5"])
+    assert changed.exit_code != 0
+    assert "action_std 0.4 (now 0.5)" in changed.output
 
 
 def test_a_run_resumed_with_more_env_processes_keeps_the_size_of_its_updates(tmp_path):

@@ -14,7 +14,8 @@ import math
 import os
 import shutil
 from collections import deque
-from dataclasses import replace
+from collections.abc import Iterable
+from dataclasses import fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -37,12 +38,37 @@ from .warmup import DeformationShare, WarmupConfig
 from .wrappers import ScaledHaptics
 
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
+# what a resumed run may change: how long it trains, on how many processes, how often it saves;
+# every other setting shaped what its checkpoint learned, so it goes on as run.json records it
+RESUMABLE = frozenset({"timesteps", "envs", "checkpoint_every", "name"})
 
 
 def train(config: TrainConfig | None = None, *, progress: bool = True, **options) -> Path:
     """Train (or resume) a human model and export it; returns the policy's JSON path."""
     config = replace(config or TrainConfig(), **options)
     return TrainingRun(config).run(progress=progress)
+
+
+def recorded_config(folder: Path | str) -> TrainConfig:
+    """The settings a run folder's run.json records, training on in that folder."""
+    folder = Path(folder)
+    record = json.loads((folder / "run.json").read_text())["config"]
+    known = {field.name for field in fields(TrainConfig)}
+    if unknown := sorted(record.keys() - known):
+        raise ValueError(f"{folder}/run.json records settings this dressbench does not know "
+                         f"({', '.join(unknown)}): it cannot resume that run")  # fmt: skip
+    return replace(TrainConfig.from_dict(record), out=str(folder.parent))
+
+
+def continued_config(config: TrainConfig, given: Iterable[str]) -> TrainConfig:
+    """The settings that resume ``config``'s run: the recorded ones, with the fields named in
+    ``given`` and the policies folder as ``config`` has them (the command line's way: an option
+    left out continues as recorded); ``config`` itself when there is no checkpoint to resume."""
+    folder = Path(config.out) / config.run_name
+    if not (folder / f"{CHECKPOINT}.zip").exists() or not (folder / "run.json").exists():
+        return config
+    changes = {name: getattr(config, name) for name in {*given, "policies"}}
+    return replace(recorded_config(folder), **changes)
 
 
 class TrainingStopped(KeyboardInterrupt):
@@ -81,6 +107,7 @@ class TrainingRun:
         call started fails before its first checkpoint leaves no folder behind.
         """
         self.config.check()
+        self._check_resumable()
         torch.set_num_threads(1)  # a second thread does not speed these small updates up
         created = not self.folder.exists()
         self.folder.mkdir(parents=True, exist_ok=True)
@@ -90,6 +117,18 @@ class TrainingRun:
             if created and not self.model_path.exists():
                 shutil.rmtree(self.folder, ignore_errors=True)
             raise
+
+    def _check_resumable(self) -> None:
+        """A checkpoint goes on only with the settings it was trained on (but ``RESUMABLE``):
+        else one line names what differs, before anything is written."""
+        run_json = self.folder / "run.json"
+        if not self.model_path.exists() or not run_json.exists():
+            return
+        recorded = json.loads(run_json.read_text())["config"]
+        if changed := _differences(recorded, self.config.record()):
+            raise ValueError(f"{self.folder} holds a run trained with {'; '.join(changed)}: "
+                             f"resume it with the settings its run.json records (options left "
+                             f"out, or recorded_config(folder)), or start it fresh")  # fmt: skip
 
     def _run(self, progress: bool) -> Path:
         run_json = {"config": self.config.record(), "versions": versions()}
@@ -232,6 +271,19 @@ class TrainingRun:
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
                                    clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip
         return Path(json_path)
+
+
+def _differences(recorded: dict, given: dict, prefix: str = "") -> list[str]:
+    """``"key recorded (now given)"`` for each setting both records hold that differs, nested
+    ones as ``part.key``; the ``RESUMABLE`` ones may differ."""
+    found = []
+    for key in sorted(recorded.keys() & given.keys()):
+        was, now, name = recorded[key], given[key], prefix + key
+        if isinstance(was, dict) and isinstance(now, dict):
+            found += _differences(was, now, f"{name}.")
+        elif was != now and name not in RESUMABLE:
+            found.append(f"{name} {was} (now {now})")
+    return found
 
 
 def training_envs(config: TrainConfig) -> VecEnv:
