@@ -46,18 +46,10 @@ def bench_training(
     cores = config.n_envs * single["steps_per_second"]
     alone["share_of_cores"] = round(alone["steps_per_second"] / cores, 3)
     share = rate / cores
-    train = {
-        "vertices": single["vertices"],
-        "what": "train",
-        "steps": timesteps,
-        "seconds": round(seconds, 1),
-        "steps_per_second": round(rate, 1),
-        "ms_per_step": round(1e3 / rate, 3),
-        "sim_failure": False,
-        "envs": config.n_envs,
-        "share_of_cores": round(share, 3),
-        "share_of_envs": round(rate / alone["steps_per_second"], 3),
-    }
+    learning = timing_row(single["vertices"], "train", timesteps, timesteps / rate)  # SB3's rate
+    train = learning | {"seconds": round(seconds, 1), "envs": config.n_envs,
+                        "share_of_cores": round(share, 3),
+                        "share_of_envs": round(rate / alone["steps_per_second"], 3)}  # fmt: skip
     return [single, alone, train]
 
 
