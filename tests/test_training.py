@@ -341,7 +341,8 @@ def test_a_checkpoint_resumes_only_with_the_settings_it_was_trained_on(tmp_path)
     assert "\n" not in str(refused.value)
     folder = tmp_path / "runs" / "kept"
     assert json.loads((folder / "checkpoint.json").read_text())["timesteps"] == 128  # untouched
-    path = train(replace(recorded_config(folder), timesteps=256), progress=False)
+    resumed = replace(recorded_config(folder), timesteps=256, policies=first.policies)
+    path = train(resumed, progress=False)
     assert json.loads(path.read_text())["config"]["curriculum"]["share"] == 0.5
 
 
