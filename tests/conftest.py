@@ -1,4 +1,5 @@
-"""Shared fixtures: a folder on ``sys.path`` for fake plugin distributions."""
+"""Shared fixtures: a folder on ``sys.path`` for fake plugin distributions, and a guard that
+no test writes among the shipped policies."""
 
 import sys
 from collections.abc import Iterator
@@ -21,3 +22,15 @@ def site(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
         if str(getattr(module, "__file__", None) or "").startswith(str(root)):
             del sys.modules[name]
     plugins.refresh()
+
+
+SHIPPED = Path(__file__).resolve().parents[1] / "dressbench" / "policies"
+
+
+@pytest.fixture(autouse=True)
+def shipped_policies_untouched() -> Iterator[None]:
+    """No test leaves a model among the shipped humans (or takes one away)."""
+    before = sorted(path.name for path in SHIPPED.iterdir())
+    yield
+    after = sorted(path.name for path in SHIPPED.iterdir())
+    assert after == before, "a test changed dressbench/policies/"
