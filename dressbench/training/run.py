@@ -52,7 +52,7 @@ def train(config: TrainConfig | None = None, *, progress: bool = True, **options
 def recorded_config(folder: Path | str) -> TrainConfig:
     """The settings a run folder's run.json records, training on in that folder."""
     folder = Path(folder)
-    record = json.loads((folder / "run.json").read_text())["config"]
+    record = _record(folder)
     known = {field.name for field in fields(TrainConfig)}
     if unknown := sorted(record.keys() - known):
         raise ValueError(f"{folder}/run.json records settings this dressbench does not know "
@@ -65,10 +65,20 @@ def continued_config(config: TrainConfig, given: Iterable[str]) -> TrainConfig:
     ``given`` and the policies folder as ``config`` has them (the command line's way: an option
     left out continues as recorded); ``config`` itself when there is no checkpoint to resume."""
     folder = Path(config.out) / config.run_name
-    if not (folder / f"{CHECKPOINT}.zip").exists() or not (folder / "run.json").exists():
+    if not _resumable(folder):
         return config
     changes = {name: getattr(config, name) for name in {*given, "policies"}}
     return replace(recorded_config(folder), **changes)
+
+
+def _resumable(folder: Path) -> bool:
+    """Whether a run folder holds a checkpoint and the run.json of the settings it learned on."""
+    return (folder / f"{CHECKPOINT}.zip").exists() and (folder / "run.json").exists()
+
+
+def _record(folder: Path) -> dict:
+    """The settings a run folder's run.json records (``TrainConfig.record()``)."""
+    return json.loads((folder / "run.json").read_text())["config"]
 
 
 class TrainingStopped(KeyboardInterrupt):
@@ -121,11 +131,9 @@ class TrainingRun:
     def _check_resumable(self) -> None:
         """A checkpoint goes on only with the settings it was trained on (but ``RESUMABLE``):
         else one line names what differs, before anything is written."""
-        run_json = self.folder / "run.json"
-        if not self.model_path.exists() or not run_json.exists():
+        if not _resumable(self.folder):
             return
-        recorded = json.loads(run_json.read_text())["config"]
-        if changed := _differences(recorded, self.config.record()):
+        if changed := _differences(_record(self.folder), self.config.record()):
             raise ValueError(f"{self.folder} holds a run trained with {'; '.join(changed)}: "
                              f"resume it with the settings its run.json records (options left "
                              f"out, or recorded_config(folder)), or start it fresh")  # fmt: skip
