@@ -264,6 +264,9 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
 )
 @click.option("--timesteps", type=int, default=None, callback=_at_least(1),
               help="Environment steps (default: the recipe's).")  # fmt: skip
+@click.option("--hours", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              help="Stop and export once the run has learned this long, its sessions summed "
+                   "(default: no budget).")  # fmt: skip
 @click.option("--envs", default=0, callback=_WORKERS,
               help="Parallel env processes (default: one per core).")  # fmt: skip
 @click.option("--seed", default=0, show_default=True, callback=_SEED)
@@ -420,6 +423,8 @@ def _require_train_extra() -> None:
               show_default=True)  # fmt: skip
 @click.option("--timesteps", type=int, default=None, callback=_at_least(1),
               help="Environment steps per run (default: the recipe's).")  # fmt: skip
+@click.option("--hours", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              help="Learning hours per run, then it exports (default: no budget).")  # fmt: skip
 @click.option("--envs", default=1, show_default=True, callback=_WORKERS,
               help="Env processes per run, each a CPU it reserves (0: one per core).")  # fmt: skip
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)

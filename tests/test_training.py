@@ -57,6 +57,19 @@ def test_timesteps_are_honoured_as_given_not_rounded_up_to_a_whole_update(tmp_pa
     assert json.loads(short.read_text())["steps"] == 100  # less than one update: exported as is
 
 
+def test_a_budget_of_hours_stops_the_run_where_it_runs_out_and_exports_it(tmp_path):
+    config = tiny_config(tmp_path, timesteps=1_000_000, hours=3 / 3600, name="budget")
+    path = train(config, progress=False)
+    steps = json.loads(path.read_text())["steps"]
+    result = json.loads((tmp_path / "runs" / "budget" / "run.json").read_text())["result"]
+    assert 0 < steps < 1_000_000 and result["steps"] == steps
+    assert result["training_seconds"] == pytest.approx(3, abs=0.5)  # stopped where it ran out
+    again = train(config, progress=False)  # the budget is spent: nothing more to learn
+    assert json.loads(again.read_text())["steps"] == steps
+    more = train(replace(config, hours=6 / 3600), progress=False)  # a larger one goes on
+    assert json.loads(more.read_text())["steps"] > steps
+
+
 def test_run_json_records_steps_wall_time_and_speed(tmp_path):
     # SB3 logs its elapsed time in whole seconds: a run of 256 tiny steps can take less than one
     train(tiny_config(tmp_path, timesteps=1024, name="timed"), progress=False)

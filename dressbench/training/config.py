@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import asdict, dataclass
 
@@ -34,6 +35,9 @@ class TrainConfig:
     algo: str = "trpo"  # the paper's TRPO, or "ppo"
     ablation: str = "complete"
     timesteps: int = 1_000_000  # the warm-up's end, then as many steps on the whole reward
+    # a budget of learning time in hours, summed over the run's sessions as run.json counts
+    # it: training stops where it runs out, short of ``timesteps``, and exports; None: none
+    hours: float | None = None
     envs: int = 0  # parallel env processes; 0 means one per core
     seed: int = 0
     gown_vertices: int = 2000
@@ -81,6 +85,8 @@ class TrainConfig:
         for field in ("action_std", "norm_epsilon"):
             if not getattr(self, field) > 0.0:
                 raise ValueError(f"{field} must be > 0, got {getattr(self, field)}")
+        if self.hours is not None and not self.hours > 0.0:
+            raise ValueError(f"hours must be > 0 (or None for no budget), got {self.hours}")
         check_name(self.name)
 
     def check(self) -> None:
@@ -135,6 +141,11 @@ class TrainConfig:
         nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig, "tear": TearConfig}
         parts = {key: kind(**fields[key]) for key, kind in nested.items() if fields.get(key)}
         return cls(**(fields | parts))
+
+    @property
+    def budget_seconds(self) -> float:
+        """The ``hours`` budget in seconds (inf: none)."""
+        return math.inf if self.hours is None else self.hours * 3600.0
 
     @property
     def run_name(self) -> str:

@@ -13,6 +13,7 @@ import json
 import math
 import os
 import shutil
+import time
 from collections import deque
 from collections.abc import Iterable
 from dataclasses import fields, replace
@@ -40,7 +41,7 @@ from .wrappers import ScaledHaptics
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
 # what a resumed run may change: how long it trains, on how many processes, how often it saves;
 # every other setting shaped what its checkpoint learned, so it goes on as run.json records it
-RESUMABLE = frozenset({"timesteps", "envs", "checkpoint_every", "name"})
+RESUMABLE = frozenset({"timesteps", "hours", "envs", "checkpoint_every", "name"})
 
 
 def train(config: TrainConfig | None = None, *, progress: bool = True, **options) -> Path:
@@ -100,6 +101,7 @@ class TrainingRun:
         self.model_path = self.folder / f"{CHECKPOINT}.zip"
         self.norm_path = self.folder / f"{CHECKPOINT}-normalization.pkl"
         self.state_path = self.folder / "checkpoint.json"
+        self.learned_before = 0.0  # learning seconds of the sessions before this one
         self.curriculum: CurriculumLevels | None = None
         if config.curriculum is not None:
             reach = self._saved_state().get("curriculum_reach", config.curriculum.first_reach)
@@ -145,11 +147,14 @@ class TrainingRun:
         try:
             model, done = self._model(venv)
             remaining = max(self.config.timesteps - done, 0)
-            if remaining:
+            self.learned_before = self._learned_seconds()
+            seconds = self.config.budget_seconds - self.learned_before
+            if remaining and seconds > 0.0:
                 self._archive_progress(done)
                 model.set_logger(configure(str(self.folder / "logs"), ["csv", "tensorboard"]))
                 total = self.config.timesteps
-                steps = [_Checkpoints(self), _StopAt(total), _Progress(done, total, progress)]
+                steps = [_Checkpoints(self), _StopAt(total, seconds),
+                         _Progress(done, total, progress)]  # fmt: skip
                 if self.curriculum is not None:
                     steps.append(self.curriculum)
                 if self.config.warmup is not None:
@@ -188,6 +193,18 @@ class TrainingRun:
         if not done:
             return self.config.seed
         return int(np.random.SeedSequence([self.config.seed, done]).generate_state(1)[0])
+
+    def _learned_seconds(self) -> float:
+        """Wall seconds of learning up to the last checkpoint, over all the run's sessions: as
+        the checkpoint records them, or (one saved before they were recorded) as its CSV logs
+        do, to the last update logged before it."""
+        state = self._saved_state()
+        if "training_seconds" in state or not state.get("timesteps"):
+            return float(state.get("training_seconds", 0.0))
+        try:
+            return training_seconds(learning_table(self.folder, until=state["timesteps"]))
+        except FileNotFoundError:  # a checkpoint saved before the first logged update
+            return 0.0
 
     def _model(self, venv: VecNormalize):
         """A fresh learner, or the checkpointed one and how many steps it has done; a run may
@@ -238,7 +255,9 @@ class TrainingRun:
         model.get_vec_normalize_env().save(str(tmp_norm))
         os.replace(tmp_norm, self.norm_path)
         os.replace(tmp_model, self.model_path)
-        state = {"timesteps": int(model.num_timesteps), "seed": self.config.seed}
+        learned = self.learned_before + (time.time_ns() - model.start_time) / 1e9
+        state = {"timesteps": int(model.num_timesteps), "seed": self.config.seed,
+                 "training_seconds": round(learned, 1)}  # fmt: skip
         if self.curriculum is not None:
             state["curriculum_reach"] = self.curriculum.reach
         write_json(self.state_path, state)
@@ -252,7 +271,7 @@ class TrainingRun:
         except FileNotFoundError:  # stopped before its first update: nothing learned to draw
             return result
         write_learning_table(table, self.folder.name, self.folder)
-        seconds = training_seconds(table)
+        seconds = self._learned_seconds()
         return result | {"training_seconds": round(seconds, 1),
                          "env_steps_per_second": round(steps / max(seconds, 1e-9), 1)}  # fmt: skip
 
@@ -356,16 +375,20 @@ class _Checkpoints(BaseCallback):
 
 
 class _StopAt(BaseCallback):
-    """End training at ``timesteps`` as given: SB3 alone rounds up to whole rollouts."""
+    """End training at ``timesteps`` as given (SB3 alone rounds up to whole rollouts), or at the
+    step where this session has learned for ``seconds`` (SB3's clock: since learning began)."""
 
-    def __init__(self, timesteps: int) -> None:
+    def __init__(self, timesteps: int, seconds: float = math.inf) -> None:
         super().__init__()
         self.timesteps = timesteps
+        self.seconds = seconds
 
     def _on_step(self) -> bool:
         buffer = self.model.rollout_buffer  # this step is added to it after the callbacks
         completes_a_rollout = buffer.pos + 1 == buffer.buffer_size
-        return self.num_timesteps < self.timesteps or completes_a_rollout
+        learned = (time.time_ns() - self.model.start_time) / 1e9
+        going = self.num_timesteps < self.timesteps and learned < self.seconds
+        return going or completes_a_rollout
 
 
 class _Progress(BaseCallback):
