@@ -367,6 +367,9 @@ class _Checkpoints(BaseCallback):
         self.run = run
         self.last = 0
 
+    def _on_training_start(self) -> None:
+        self.last = self.num_timesteps  # a resumed run's checkpoint is where it starts
+
     def _on_step(self) -> bool:
         if self.num_timesteps - self.last >= self.run.config.checkpoint_every:
             self.run.save_checkpoint(self.model)
