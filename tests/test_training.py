@@ -331,6 +331,15 @@ def test_a_config_comes_back_whole_from_its_run_json_fields():
     assert TrainConfig.from_dict(asdict(TrainConfig.preset("paper"))).warmup is None
 
 
+def test_a_run_json_of_settings_this_dressbench_does_not_know_is_refused_in_one_line(tmp_path):
+    folder = tmp_path / "runs" / "future"
+    folder.mkdir(parents=True)
+    record = TrainConfig(name="future").record() | {"wings": 2}
+    (folder / "run.json").write_text(json.dumps({"config": record}))
+    with pytest.raises(ValueError, match=r"run\.json: settings .* does not know: wings"):
+        recorded_config(folder)
+
+
 def test_a_run_folder_moved_to_another_place_resumes_there(tmp_path):
     first = tiny_config(tmp_path, timesteps=256, name="moved", out=str(tmp_path / "here"))
     train(first, progress=False)

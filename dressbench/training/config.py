@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from dataclasses import asdict, dataclass
@@ -138,6 +139,9 @@ class TrainConfig:
     def from_dict(cls, fields: dict) -> TrainConfig:
         """The config of ``dataclasses.asdict(config)`` or ``record()`` (as in run.json), nested
         parts included; a record's folders are the defaults."""
+        known = {field.name for field in dataclasses.fields(cls)}
+        if unknown := sorted(fields.keys() - known):
+            raise ValueError(f"settings this dressbench does not know: {', '.join(unknown)}")
         nested = {"curriculum": CurriculumConfig, "warmup": WarmupConfig, "tear": TearConfig}
         parts = {key: kind(**fields[key]) for key, kind in nested.items() if fields.get(key)}
         return cls(**(fields | parts))

@@ -16,7 +16,7 @@ import shutil
 import time
 from collections import deque
 from collections.abc import Iterable
-from dataclasses import fields, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -53,12 +53,11 @@ def train(config: TrainConfig | None = None, *, progress: bool = True, **options
 def recorded_config(folder: Path | str) -> TrainConfig:
     """The settings a run folder's run.json records, training on in that folder."""
     folder = Path(folder)
-    record = _record(folder)
-    known = {field.name for field in fields(TrainConfig)}
-    if unknown := sorted(record.keys() - known):
-        raise ValueError(f"{folder}/run.json records settings this dressbench does not know "
-                         f"({', '.join(unknown)}): it cannot resume that run")  # fmt: skip
-    return replace(TrainConfig.from_dict(record), out=str(folder.parent))
+    try:
+        config = TrainConfig.from_dict(_record(folder))
+    except ValueError as error:
+        raise ValueError(f"{folder}/run.json: {error}; it cannot resume that run") from None
+    return replace(config, out=str(folder.parent))
 
 
 def continued_config(config: TrainConfig, given: Iterable[str]) -> TrainConfig:
