@@ -33,7 +33,9 @@ RUNS = {  # learning summary stem: label
     "side_linear-probe-std03-s0": "side_linear: + tear limit, action std 0.3 (probe, s9)",
     "front_linear-candidate-std03-promote05-s0": "front_linear: std 0.3, promotion at 50% (s10)",
     "side_linear-candidate-std03-promote05-s0": "side_linear: std 0.3, promotion at 50% (s10)",
-    "../side_linear-share08-s0": "side_linear: default recipe, 80% near starts (s14-15)",
+    "side_linear-share08-s0": "side_linear: default recipe, 80% near starts (s14-15)",
+    "../front_linear-default-s0": "front_linear: today's default recipe from scratch (s15-16)",
+    "../side_linear-default-s0": "side_linear: today's default recipe from scratch (s17-18)",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 
