@@ -22,7 +22,8 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=20)
     parser.add_argument("--seed", type=int, default=100, help="of the first episode")
     args = parser.parse_args()
-    coach = CurriculumConfig(share=1.0)  # every episode a near start of the first level
+    # every episode a near start of the first level
+    coach = CurriculumConfig(share=1.0, held_share=1.0)
     env = NearStarts(make_human_env(args.robot, scene=actuated_scene("delta")), coach)
     hold = np.zeros(env.action_space.shape)
     finals = []

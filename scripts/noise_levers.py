@@ -26,7 +26,8 @@ def main() -> None:
     parser.add_argument("--std", type=float, default=0.5, help="of the actions' noise")
     parser.add_argument("--starts", type=int, default=5, help="near starts averaged over")
     args = parser.parse_args()
-    coach = CurriculumConfig(share=1.0)  # every episode a near start of the first level
+    # every episode a near start of the first level
+    coach = CurriculumConfig(share=1.0, held_share=1.0)
     env = NearStarts(make_human_env(args.robot, scene=actuated_scene("delta")), coach)
     human = env.unwrapped.env.scene.human
     levers = []

@@ -8,13 +8,13 @@ import pytest
 from dressbench.factory import make_human_env
 from dressbench.metrics import feature_plane
 from dressbench.scene.world import actuated_scene
-from dressbench.training.curriculum import CurriculumConfig, NearStarts
+from dressbench.training.curriculum import CurriculumConfig, NearStarts, approach_line
 
 
 def near_start(robot: str, seed: int):
     """A near start of the first level: the robot's first move, the hand's points, the opening."""
     human_env = make_human_env(robot, scene=actuated_scene("delta"))
-    env = NearStarts(human_env, CurriculumConfig(share=1.0))
+    env = NearStarts(human_env, CurriculumConfig(share=1.0, held_share=1.0))
     _, info = env.reset(seed=seed)
     move = env.unwrapped.robot_next_move()
     scene = env.unwrapped.env.scene
@@ -76,8 +76,30 @@ def test_asking_for_the_robots_first_move_leaves_the_strategy_and_its_episode_un
     assert np.array_equal(asked, episode(ask=False)[1])
 
 
+@pytest.mark.parametrize("robot", ["front_linear", "side_linear"])
+def test_the_moving_strategies_bring_the_opening_onto_the_hand_from_their_first_move(robot):
+    env = make_human_env(robot, gown_vertices=600)
+    for seed in range(10):
+        env.reset(seed=seed)
+        assert approach_line(env.env.scene, env.robot_next_move()).onto_hand
+    env.close()
+
+
+@pytest.mark.parametrize(("robot", "near"), [("front_linear", True), ("fixed", False)])
+def test_the_share_of_near_starts_is_held_share_where_the_robot_does_not_bring_the_opening(
+    robot, near
+):
+    config = CurriculumConfig(share=1.0, held_share=0.0)
+    env = NearStarts(make_human_env(robot, gown_vertices=600), config, seed=2)
+    starts = [env.reset(seed=1)[1]["near_start"]] + [env.reset()[1]["near_start"] for _ in range(3)]
+    assert all((d > 0.0) == near for d in starts)
+    env.close()
+
+
 def test_the_judges_trials_all_start_near_and_training_goes_back_to_its_share():
-    env = NearStarts(make_human_env("fixed", gown_vertices=600), CurriculumConfig(share=0.0))
+    env = NearStarts(
+        make_human_env("fixed", gown_vertices=600), CurriculumConfig(share=0.0, held_share=0.0)
+    )
     env.set_trials(True)
     trials = [env.reset(seed=seed)[1]["near_start"] for seed in (1, 2)]
     env.set_trials(False)

@@ -99,8 +99,9 @@ def test_a_comparison_draws_each_runs_learning_curve_on_shared_axes(tmp_path):
 
 @pytest.mark.parametrize(
     "coach",
-    [CurriculumConfig(share=1.0, window=2, promote_at=0.0),  # after 2 episodes
-     CurriculumConfig(share=1.0, judge="mean", trials=2, judge_every=128, promote_at=0.0)],
+    [CurriculumConfig(share=1.0, held_share=1.0, window=2, promote_at=0.0),  # after 2 episodes
+     CurriculumConfig(share=1.0, held_share=1.0, judge="mean", trials=2, judge_every=128,
+                      promote_at=0.0)],
     ids=["judged-on-training-episodes", "judged-on-trials-of-the-mean"],
 )  # fmt: skip
 def test_a_run_with_the_curriculum_widens_its_near_starts_and_keeps_the_level(tmp_path, coach):

@@ -18,7 +18,7 @@ from dressbench.training.vec_env import SharedCoreVecEnv
 def near_start_env(rank: int):
     """A small env whose episodes end after 4 steps, with the curriculum's near starts."""
     env = make_human_env("fixed", gown_vertices=600, horizon=4)
-    return NearStarts(env, CurriculumConfig(share=1.0), seed=rank)
+    return NearStarts(env, CurriculumConfig(share=1.0, held_share=1.0), seed=rank)
 
 
 def rollout(venv, steps: int) -> list:
@@ -66,7 +66,9 @@ def test_it_needs_two_envs():
 
 
 def test_a_run_with_two_env_processes_trains_and_coaches_both(tmp_path):
-    coach = CurriculumConfig(share=1.0, judge="mean", trials=3, judge_every=128, promote_at=0.0)
+    coach = CurriculumConfig(
+        share=1.0, held_share=1.0, judge="mean", trials=3, judge_every=128, promote_at=0.0
+    )
     config = TrainConfig(gown_vertices=600, horizon=32, samples_per_update=128, envs=2,
                          timesteps=256, curriculum=coach, name="two", out=str(tmp_path / "runs"),
                          policies=str(tmp_path / "policies"))  # fmt: skip

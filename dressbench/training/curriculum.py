@@ -9,7 +9,7 @@ it, as a coach placing the arm would.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import gymnasium as gym
 import numpy as np
@@ -28,7 +28,12 @@ JUDGES = ("mean", "training")
 class CurriculumConfig:
     """How near starts are drawn and how they widen."""
 
-    share: float = 0.8  # of episodes that start near the opening while the curriculum runs
+    # of episodes that start near the opening while the curriculum runs, where the robot's first
+    # move brings the opening onto the hand (from rest, too, it comes to the hand: near starts
+    # teach most of the way); ``held_share`` where it does not (held still, or moved elsewhere:
+    # the whole reach is learned from rest), docs/training.md, session 19
+    share: float = 0.8
+    held_share: float = 0.5
     first_reach: float = 0.05  # m: at the first level the fingertip starts up to this far away
     step: float = 0.05  # m the reach widens by at each promotion
     last_reach: float = 0.35  # m: past this the curriculum ends and every start is at rest
@@ -44,8 +49,9 @@ class CurriculumConfig:
     hand_in: float = 0.18  # m of final arm progress that counts as the hand in
 
     def __post_init__(self) -> None:
-        if not 0.0 <= self.share <= 1.0:
-            raise ValueError(f"share must be in [0, 1], got {self.share}")
+        for field in ("share", "held_share"):
+            if not 0.0 <= getattr(self, field) <= 1.0:
+                raise ValueError(f"{field} must be in [0, 1], got {getattr(self, field)}")
         if not 0.0 < self.first_reach <= self.last_reach:
             raise ValueError("need 0 < first_reach <= last_reach")
         if self.judge not in JUDGES:
@@ -58,7 +64,8 @@ class NearStarts(gym.Wrapper):
     """Starts a share of episodes with the fingertip up to ``reach`` before the opening's centre,
     on the line the robot is moving the opening along and the hand pointing along it (the
     opening's axis when it holds still); ``info["near_start"]`` is that distance (0 for a rest
-    start).
+    start). The share is ``share`` where the robot's first move brings the opening onto the
+    hand, else ``held_share``.
 
     Along the motion, because the driven rim slides up an arm lying on its path and stops
     against one across it: held still, such near starts end with the hand in about twice as
@@ -85,14 +92,21 @@ class NearStarts(gym.Wrapper):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         if seed is not None:
             self._rng = np.random.default_rng([seed, 1])
-        share = 1.0 if self._trials else self.config.share
-        near = self.reach <= self.config.last_reach and self._rng.random() < share
+        cfg = self.config
+        shares = (1.0, 1.0) if self._trials else (cfg.share, cfg.held_share)
+        draw = self._rng.random()
+        near = self.reach <= cfg.last_reach and draw < max(shares)
         self._distance = float(self._rng.uniform(0.02, self.reach)) if near else 0.0
         if near:
             if seed is None:  # both resets below must start the same episode
                 seed = int(self._rng.integers(2**32))
-            self.env.reset(seed=seed, options=options)
+            rest = self.env.reset(seed=seed, options=options)
             self._approach = self.env.unwrapped.robot_next_move()
+            approach = approach_line(self.env.unwrapped.env.scene, self._approach)
+            if draw >= shares[0 if approach.onto_hand else 1]:  # a rest start after all
+                self._distance = 0.0
+                observation, info = rest
+                return observation, info | {"near_start": 0.0}
             options = (options or {}) | {"human_start": self._start_pose}
         observation, info = self.env.reset(seed=seed, options=options)
         return observation, info | {"near_start": self._distance}
@@ -103,12 +117,24 @@ class NearStarts(gym.Wrapper):
 
     def _start_pose(self, scene: Scene) -> np.ndarray:
         """The fingertip ``distance`` before the opening's centre along the direction the hand
-        points: against the robot's first move if that brings the opening onto the hand, else
-        the opening's axis."""
-        plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
-        direction = plane.normal
-        move = self._approach
-        if move is not None and np.dot(move, plane.normal) < -1e-9:
-            direction = -move / np.linalg.norm(move)
-        tip = plane.centroid - self._distance * direction
-        return scene.human.reaching_pose(tip, direction)
+        points (``approach_line``)."""
+        approach = approach_line(scene, self._approach)
+        tip = approach.centre - self._distance * approach.direction
+        return scene.human.reaching_pose(tip, approach.direction)
+
+
+class Approach(NamedTuple):
+    """The line a hand comes into the opening along."""
+
+    centre: np.ndarray  # the opening's centre
+    direction: np.ndarray  # unit, into the sleeve
+    onto_hand: bool  # whether the robot's move brings the opening along it onto the hand
+
+
+def approach_line(scene: Scene, move: np.ndarray | None) -> Approach:
+    """Against the robot's ``move`` if that brings the opening onto the hand, else the opening's
+    axis."""
+    plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
+    onto_hand = move is not None and np.dot(move, plane.normal) < -1e-9
+    direction = -move / np.linalg.norm(move) if onto_hand else plane.normal
+    return Approach(plane.centroid, direction, bool(onto_hand))
