@@ -129,6 +129,8 @@ def main() -> None:
               help="Environment steps of the --train run.")  # fmt: skip
 @click.option("--train-envs", default=0, callback=_WORKERS,
               help="Env processes of the --train run (default: one per core).")  # fmt: skip
+@click.option("--train-envs-per-process", default=1, show_default=True, callback=_at_least(1),
+              help="Envs each env process of the --train run steps.")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
 def bench(
     vertices: tuple[int, ...],
@@ -141,6 +143,7 @@ def bench(
     train_run: bool,
     train_steps: int,
     train_envs: int,
+    train_envs_per_process: int,
     as_json: bool,
 ) -> None:
     """Time the cloth alone, the whole scene step and the env step (one process, one core);
@@ -184,7 +187,8 @@ def bench(
         from .training.bench import bench_training
 
         for n in vertices or (2000,):
-            single, alone, run = bench_training(n, train_steps, steps, repeats, train_envs)
+            single, alone, run = bench_training(n, train_steps, steps, repeats, train_envs,
+                                                train_envs_per_process)  # fmt: skip
             for row in (single, alone, run):
                 show(row)
             say(f"its envs alone: {100 * alone['share_of_cores']:.0f}% of {run['envs']} cores x "
@@ -269,6 +273,8 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
                    "(default: no budget).")  # fmt: skip
 @click.option("--envs", default=0, callback=_WORKERS,
               help="Parallel env processes (default: one per core).")  # fmt: skip
+@click.option("--envs-per-process", default=1, show_default=True, callback=_at_least(1),
+              help="Envs each env process steps one after another.")  # fmt: skip
 @click.option("--seed", default=0, show_default=True, callback=_SEED)
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
 @click.option("--out", default="runs", show_default=True, callback=_FOLDER,

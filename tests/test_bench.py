@@ -91,14 +91,15 @@ def test_compare_pybullet_without_pybullet_is_one_line_naming_the_extra(monkeypa
 
 
 def test_the_training_bench_runs_the_default_recipe_updating_at_least_once(tmp_path):
-    config = bench_config(300, 1000, 0, tmp_path)
+    config = bench_config(300, 1000, 0, 1, tmp_path)
     assert config.samples_per_update == 1000  # shorter than the recipe's batch: one update
     changed = {"timesteps", "gown_vertices", "samples_per_update", "out", "policies", "name"}
     recipe, bench = asdict(TrainConfig.preset("default")), asdict(config)
     assert {key: bench[key] for key in recipe if key not in changed} == {
         key: value for key, value in recipe.items() if key not in changed
     }
-    assert bench_config(300, 10_000, 0, tmp_path).samples_per_update == recipe["samples_per_update"]
+    longer = bench_config(300, 10_000, 0, 1, tmp_path)
+    assert longer.samples_per_update == recipe["samples_per_update"]
     assert config.out.startswith(str(tmp_path)) and config.policies.startswith(str(tmp_path))
 
 

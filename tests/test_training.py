@@ -313,6 +313,7 @@ def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():
          {"warmup": None, "curriculum": None, "tear": None}),
         (["--tear-limit", "3"], {"tear": {"ratio": 3.0}}),
         (["--action-std", "0.4"], {"action_std": 0.4}),
+        (["--envs-per-process", "2"], {"envs": 1, "envs_per_process": 2}),
     ],
 )  # fmt: skip
 def test_train_options_turn_the_recipes_parts_off_or_change_them(tmp_path, flags, expected):

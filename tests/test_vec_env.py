@@ -33,9 +33,10 @@ def rollout(venv, steps: int) -> list:
     return observations
 
 
-def test_env_zero_here_and_the_rest_in_workers_give_the_episodes_of_one_process():
+@pytest.mark.parametrize("per_process", [1, 2], ids=["one-env-a-process", "groups-of-two"])
+def test_a_group_here_and_the_rest_in_workers_give_the_episodes_of_one_process(per_process):
     factories = [partial(near_start_env, rank) for rank in range(3)]
-    shared = rollout(SharedCoreVecEnv(factories), steps=6)  # past an episode's end: auto-reset
+    shared = rollout(SharedCoreVecEnv(factories, per_process), steps=6)  # past an episode's end
     single = rollout(DummyVecEnv(factories), steps=6)
     np.testing.assert_array_equal(shared[0], single[0])
     for (obs_a, rew_a, done_a, info_a), (obs_b, rew_b, done_b, info_b) in zip(
@@ -48,28 +49,47 @@ def test_env_zero_here_and_the_rest_in_workers_give_the_episodes_of_one_process(
     assert shared[4][2].all()  # each episode ended at its 4th step
 
 
-def test_methods_and_attributes_reach_the_envs_they_name_wherever_they_run():
-    venv = SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(3)])
+@pytest.mark.parametrize("per_process", [1, 2], ids=["one-env-a-process", "groups-of-two"])
+def test_methods_and_attributes_reach_the_envs_they_name_wherever_they_run(per_process):
+    venv = SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(4)], per_process)
     try:
         venv.env_method("set_reach", 0.2, indices=[0, 2])
-        assert venv.get_attr("reach") == pytest.approx([0.2, 0.05, 0.2])
-        venv.set_attr("reach", 0.3)
-        assert venv.get_attr("reach", indices=2) == pytest.approx([0.3])
-        assert venv.env_is_wrapped(NearStarts) == [True, True, True]
+        assert venv.get_attr("reach") == pytest.approx([0.2, 0.05, 0.2, 0.05])
+        venv.set_attr("reach", 0.3, indices=[1, 3])
+        assert venv.get_attr("reach", indices=[2, 3]) == pytest.approx([0.2, 0.3])
+        assert venv.env_is_wrapped(NearStarts) == [True] * 4
     finally:
         venv.close()
 
 
-def test_it_needs_two_envs():
-    with pytest.raises(ValueError, match="2 envs"):
-        SharedCoreVecEnv([partial(near_start_env, 0)])
+def test_it_needs_two_groups():
+    with pytest.raises(ValueError, match="2 groups of 2 envs"):
+        SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(2)], per_process=2)
 
 
-def test_a_run_with_two_env_processes_trains_and_coaches_both(tmp_path):
+def broken_env():
+    raise ValueError("robot plugin 'wobbly' cannot be built")
+
+
+def test_an_error_in_a_worker_is_raised_again_in_the_training_process():
+    with pytest.raises(ValueError, match="'wobbly' cannot be built"):
+        SharedCoreVecEnv([partial(near_start_env, 0), broken_env])
+    venv = SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(2)])
+    try:
+        with pytest.raises(AttributeError, match="no_such_method"):
+            venv.env_method("no_such_method", indices=1)
+        assert venv.get_attr("reach", indices=1) == pytest.approx([0.05])  # it serves on
+    finally:
+        venv.close()
+
+
+@pytest.mark.parametrize("per_process", [1, 2], ids=["one-env-a-process", "groups-of-two"])
+def test_a_run_with_two_env_processes_trains_and_coaches_them_all(tmp_path, per_process):
     coach = CurriculumConfig(
         share=1.0, held_share=1.0, judge="mean", trials=3, judge_every=128, promote_at=0.0
     )
     config = TrainConfig(gown_vertices=600, horizon=32, samples_per_update=128, envs=2,
+                         envs_per_process=per_process,
                          timesteps=256, curriculum=coach, name="two", out=str(tmp_path / "runs"),
                          policies=str(tmp_path / "policies"))  # fmt: skip
     assert json.loads(train(config, progress=False).read_text())["steps"] == 256

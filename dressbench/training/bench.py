@@ -28,6 +28,7 @@ def bench_training(
     env_steps: int = 200,
     repeats: int = 3,
     envs: int = 0,
+    envs_per_process: int = 1,
 ) -> list[dict]:
     """Time a short training run of the default recipe, its envs alone and the bare env step.
 
@@ -35,19 +36,20 @@ def bench_training(
     ``repeats``), an ``envs`` row (``bench_training_envs``: the run's env processes stepped
     alone, ``env_steps`` steps each) and a ``train`` row: SB3's own environment steps per
     second of learning (at its last logged update), the wall seconds of the whole call, the env
-    processes. ``share_of_cores`` is a row's rate over (env processes x the single env step
-    rate); the train row's ``share_of_envs``, its rate over the envs row's.
+    processes and the envs each steps. ``share_of_cores`` is a row's rate over (env processes x
+    the single env step rate); the train row's ``share_of_envs``, its rate over the envs row's.
     """
     with tempfile.TemporaryDirectory(prefix="dressbench-train-bench-") as folder:
-        config = bench_config(vertices, timesteps, envs, Path(folder))  # checked before work
+        config = bench_config(vertices, timesteps, envs, envs_per_process, Path(folder))
         single = bench_env(vertices, env_steps, "cpu", repeats)
         alone = bench_training_envs(config, env_steps, single["vertices"])
         rate, seconds = _train_rate(config)
-    cores = config.n_envs * single["steps_per_second"]
+    cores = config.processes * single["steps_per_second"]
     alone["share_of_cores"] = round(alone["steps_per_second"] / cores, 3)
     share = rate / cores
     learning = timing_row(single["vertices"], "train", timesteps, timesteps / rate)  # SB3's rate
-    train = learning | {"seconds": round(seconds, 1), "envs": config.n_envs,
+    train = learning | {"seconds": round(seconds, 1), "envs": config.processes,
+                        "envs_per_process": config.envs_per_process,
                         "share_of_cores": round(share, 3),
                         "share_of_envs": round(rate / alone["steps_per_second"], 3)}  # fmt: skip
     return [single, alone, train]
@@ -78,10 +80,13 @@ def bench_training_envs(config: TrainConfig, steps: int, vertices: int, warmup: 
     finally:
         venv.close()
     total = steps * venv.num_envs
-    return {**timing_row(vertices, "envs", total, seconds, failed), "envs": venv.num_envs}
+    return {**timing_row(vertices, "envs", total, seconds, failed), "envs": config.processes,
+            "envs_per_process": config.envs_per_process}  # fmt: skip
 
 
-def bench_config(vertices: int, timesteps: int, envs: int, folder: Path) -> TrainConfig:
+def bench_config(
+    vertices: int, timesteps: int, envs: int, envs_per_process: int, folder: Path
+) -> TrainConfig:
     """The default recipe for ``timesteps`` steps, its run and policy under ``folder``; a run
     shorter than the recipe's batch updates once, on all its samples, so SB3 logs its rate."""
     recipe = TrainConfig.preset("default")
@@ -90,6 +95,7 @@ def bench_config(vertices: int, timesteps: int, envs: int, folder: Path) -> Trai
         timesteps=timesteps,
         gown_vertices=vertices,
         envs=envs,
+        envs_per_process=envs_per_process,
         samples_per_update=min(recipe.samples_per_update, timesteps),
         out=str(folder / "runs"),
         policies=str(folder / "policies"),
@@ -109,7 +115,6 @@ def _train_rate(config: TrainConfig) -> tuple[float, float]:
     except FileNotFoundError:  # SB3 logs its rate after a whole rollout, and no rollout ended
         steps, envs = config.timesteps, config.n_envs
         raise ValueError(
-            f"{steps} training steps end before the first update: give 64 per env process "
-            f"({envs}) at least"
+            f"{steps} training steps end before the first update: give 64 per env ({envs}) at least"
         ) from None
     return float(table["time/fps"].iloc[-1]), seconds

@@ -40,6 +40,7 @@ class TrainConfig:
     # it: training stops where it runs out, short of ``timesteps``, and exports; None: none
     hours: float | None = None
     envs: int = 0  # parallel env processes; 0 means one per core
+    envs_per_process: int = 1  # envs each process steps one after another (vec_env.py)
     seed: int = 0
     gown_vertices: int = 2000
     horizon: int = 400
@@ -78,6 +79,7 @@ class TrainConfig:
         check_haptic_scale(self.haptics)
         check_int(self.timesteps, "timesteps", 1)
         check_processes(self.envs, "envs", zero="one per core")
+        check_int(self.envs_per_process, "envs_per_process", 1)
         check_seed(self.seed)
         check_gown_vertices(self.gown_vertices)
         check_horizon(self.horizon)
@@ -156,8 +158,12 @@ class TrainConfig:
         return self.name or f"{self.robot}-{self.ablation}-{self.algo}-s{self.seed}"
 
     @property
-    def n_envs(self) -> int:
+    def processes(self) -> int:
         return self.envs or os.cpu_count() or 1
+
+    @property
+    def n_envs(self) -> int:
+        return self.processes * self.envs_per_process
 
     @property
     def rollout_steps(self) -> int:

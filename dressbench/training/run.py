@@ -41,7 +41,9 @@ from .wrappers import ScaledHaptics
 CHECKPOINT = "checkpoint"  # stem of the model and normalisation files in a run folder
 # what a resumed run may change: how long it trains, on how many processes, how often it saves;
 # every other setting shaped what its checkpoint learned, so it goes on as run.json records it
-RESUMABLE = frozenset({"timesteps", "hours", "envs", "checkpoint_every", "name"})
+RESUMABLE = frozenset(
+    {"timesteps", "hours", "envs", "envs_per_process", "checkpoint_every", "name"}
+)
 
 
 def train(config: TrainConfig | None = None, *, progress: bool = True, **options) -> Path:
@@ -313,12 +315,12 @@ def _differences(recorded: dict, given: dict, prefix: str = "") -> list[str]:
 
 
 def training_envs(config: TrainConfig) -> VecEnv:
-    """The run's ``n_envs`` training envs (before normalisation): one in this process, or env 0
-    here and the rest in spawned workers (``SharedCoreVecEnv``)."""
+    """The run's ``n_envs`` training envs (before normalisation): all in this process, or a
+    group here and a group in each spawned worker (``SharedCoreVecEnv``)."""
     factories = [_EnvFactory(config, rank) for rank in range(config.n_envs)]
-    if config.n_envs == 1:
+    if config.processes == 1:
         return DummyVecEnv(factories)
-    return SharedCoreVecEnv(factories, start_method="spawn")
+    return SharedCoreVecEnv(factories, per_process=config.envs_per_process, start_method="spawn")
 
 
 class _EnvFactory:
