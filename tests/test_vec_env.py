@@ -2,6 +2,7 @@
 rest in workers, and gives the episodes one process would."""
 
 import json
+import multiprocessing
 from functools import partial
 
 import numpy as np
@@ -73,7 +74,8 @@ def broken_env():
 
 def test_an_error_in_a_worker_is_raised_again_in_the_training_process():
     with pytest.raises(ValueError, match="'wobbly' cannot be built"):
-        SharedCoreVecEnv([partial(near_start_env, 0), broken_env])
+        SharedCoreVecEnv([partial(near_start_env, 0), partial(near_start_env, 1), broken_env])
+    assert not multiprocessing.active_children()  # the group built before it was ended too
     venv = SharedCoreVecEnv([partial(near_start_env, rank) for rank in range(2)])
     try:
         with pytest.raises(AttributeError, match="no_such_method"):

@@ -117,7 +117,7 @@ class NearStarts(gym.Wrapper):
 
     def _start_pose(self, scene: Scene) -> np.ndarray:
         """The fingertip ``distance`` before the opening's centre along the direction the hand
-        points (``approach_line``)."""
+        points (``approach_line``, taken again on the scene as this reset placed it)."""
         approach = approach_line(scene, self._approach)
         tip = approach.centre - self._distance * approach.direction
         return scene.human.reaching_pose(tip, approach.direction)

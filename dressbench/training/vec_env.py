@@ -40,21 +40,24 @@ class SharedCoreVecEnv(VecEnv):
                 f"SharedCoreVecEnv needs 2 groups of {per_process} envs or more, got "
                 f"{len(env_fns)} envs"
             )
-        groups = [env_fns[i : i + per_process] for i in range(0, len(env_fns), per_process)]
-        self.local = DummyVecEnv(list(groups[0]))
-        self.workers = [WorkerVecEnv(group, start_method) for group in groups[1:]]
-        self.parts: list[VecEnv] = [self.local, *self.workers]
+        starts = range(0, len(env_fns), per_process)
+        groups = [list(env_fns[i : i + per_process]) for i in starts]
+        self.parts: list[VecEnv] = [DummyVecEnv(groups[0])]
+        try:
+            for group in groups[1:]:
+                self.parts.append(WorkerVecEnv(group, start_method))
+        except BaseException:  # one group's envs could not be built: end the others
+            self.close()
+            raise
+        self.local = self.parts[0]
+        # each part with its envs' places in the vector
+        self.spans = [
+            (part, slice(i, i + part.num_envs)) for part, i in zip(self.parts, starts, strict=True)
+        ]
         super().__init__(len(env_fns), self.local.observation_space, self.local.action_space)
 
-    def _spans(self) -> list[tuple[VecEnv, slice]]:
-        spans, first = [], 0
-        for part in self.parts:
-            spans.append((part, slice(first, first + part.num_envs)))
-            first += part.num_envs
-        return spans
-
     def reset(self):
-        for part, span in self._spans():
+        for part, span in self.spans:
             part._seeds, part._options = self._seeds[span], self._options[span]
         observations = [part.reset() for part in self.parts]
         self._reset_seeds()
@@ -63,10 +66,9 @@ class SharedCoreVecEnv(VecEnv):
         return np.concatenate(observations)
 
     def step_async(self, actions: np.ndarray) -> None:
-        spans = self._spans()
-        for part, span in spans[1:]:
+        for part, span in self.spans[1:]:
             part.step_async(actions[span])
-        self.local.step_async(actions[spans[0][1]])
+        self.local.step_async(actions[self.spans[0][1]])
 
     def step_wait(self) -> VecEnvStepReturn:
         results = [part.step_wait() for part in self.parts]  # this process's group first
@@ -97,9 +99,9 @@ class SharedCoreVecEnv(VecEnv):
 
     def _each(self, method: str, indices: VecEnvIndices, *args, **kwargs) -> list[Any]:
         """``method`` of the part that holds each of ``indices``, results in their order."""
-        spans, results = self._spans(), []
+        results = []
         for index in self._get_indices(indices):
-            part, span = next((part, span) for part, span in spans if index < span.stop)
+            part, span = next((part, span) for part, span in self.spans if index < span.stop)
             answer = getattr(part, method)(*args, indices=[index - span.start], **kwargs)
             results.extend(answer or [None])
         return results
