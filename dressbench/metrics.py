@@ -16,6 +16,12 @@ from numpy.typing import ArrayLike, NDArray
 
 FloatArray = NDArray[np.float64]
 
+# Stages of dressing as final arm progress, m (segment lengths of docs/human.md): the hand in
+# (the wrist through the opening, 0.18), past the elbow (hand and forearm inside, 0.18 + 0.26:
+# the leaderboard's success) and dressed (the opening at the middle of the upper arm,
+# 0.44 + 0.30 / 2). Evaluation, training logs and the curriculum all read them here.
+STAGE_DEPTHS = {"hand_in": 0.18, "past_elbow": 0.44, "dressed": 0.59}
+
 
 @dataclass(frozen=True, eq=False)
 class FeaturePlane:

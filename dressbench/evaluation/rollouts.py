@@ -7,16 +7,12 @@ from typing import Any
 
 import numpy as np
 
+from ..metrics import STAGE_DEPTHS
 from .cells import Cell, make_cell, plugin_identities
 from .identity import difference, same
 
-# Success depth, m: the arm is through the sleeve opening past the elbow, i.e. the hand (0.18 m)
-# and the forearm (0.26 m) are inside (segment lengths of docs/human.md).
-SUCCESS_DEPTH = 0.44
-# The stages of dressing besides success (Assistive Gym's subtasks), as final arm progress (m):
-# the hand in (the wrist through the opening) and dressed (the opening at the middle of the
-# upper arm, 0.44 + 0.30 / 2).
-STAGE_DEPTHS = {"hand_in": 0.18, "dressed": 0.59}
+# Success: the arm through the sleeve opening past the elbow (metrics.STAGE_DEPTHS)
+SUCCESS_DEPTH = STAGE_DEPTHS["past_elbow"]
 
 
 def episode_seed(seed: int, episode: int) -> int:

@@ -15,7 +15,7 @@ import gymnasium as gym
 import numpy as np
 
 from ..checks import check_int
-from ..metrics import feature_plane
+from ..metrics import STAGE_DEPTHS, feature_plane
 
 if TYPE_CHECKING:
     from ..scene.world import Scene
@@ -46,7 +46,7 @@ class CurriculumConfig:
     trials: int = 8
     judge_every: int = 20_000  # environment steps
     window: int = 40
-    hand_in: float = 0.18  # m of final arm progress that counts as the hand in
+    hand_in: float = STAGE_DEPTHS["hand_in"]  # m of final arm progress that counts as the hand in
 
     def __post_init__(self) -> None:
         for field in ("share", "held_share"):

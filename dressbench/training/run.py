@@ -28,6 +28,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecNormalize
 from tqdm import tqdm
 
 from ..files import write_csv, write_json
+from ..metrics import STAGE_DEPTHS
 from ..provenance import git_commit, versions
 from ..scene.world import actuated_scene
 from .config import TrainConfig
@@ -423,7 +424,11 @@ class _Progress(BaseCallback):
         if self.torn:
             self.logger.record("rollout/torn_rate", np.mean(self.torn))
         if self.rest_starts:
-            self.logger.record("rollout/rest_start_arm_progress", np.mean(self.rest_starts))
+            progress = np.asarray(self.rest_starts)
+            self.logger.record("rollout/rest_start_arm_progress", progress.mean())
+            for stage in ("hand_in", "past_elbow"):  # the shares the evaluation reports
+                rate = float(np.mean(progress >= STAGE_DEPTHS[stage]))
+                self.logger.record(f"rollout/rest_start_{stage}_rate", rate)
         if self.recent:
             progress, deformation, failures = np.mean(self.recent, axis=0)
             self.bar.set_postfix(arm_progress=f"{progress:.3f}", refresh=False)

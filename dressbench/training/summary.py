@@ -46,11 +46,20 @@ def learning_table(run_folder: str | Path, until: int | None = None) -> pd.DataF
     return table if until is None else table[table[STEPS] <= until]
 
 
-def training_seconds(table: pd.DataFrame) -> float:
-    """Wall time spent learning, summed over sessions (SB3's time_elapsed restarts at a resume)."""
+def learning_seconds(table: pd.DataFrame) -> np.ndarray:
+    """Wall time spent learning at each logged update, summed over sessions (SB3's
+    time_elapsed restarts at a resume, so each session adds the last time of the one before)."""
     elapsed = table["time/time_elapsed"].to_numpy(dtype=float)
     restarts = np.flatnonzero(np.diff(elapsed) < 0)
-    return float(elapsed[restarts].sum() + elapsed[-1])
+    offsets = np.zeros_like(elapsed)
+    for restart in restarts:
+        offsets[restart + 1 :] += elapsed[restart]
+    return elapsed + offsets
+
+
+def training_seconds(table: pd.DataFrame) -> float:
+    """Wall time spent learning over the whole run."""
+    return float(learning_seconds(table)[-1])
 
 
 def learning_figure(table: pd.DataFrame, title: str) -> Figure:
@@ -136,4 +145,49 @@ def write_learning_comparison(
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_png(out, comparison_figure(tables, title))
+    return out
+
+
+# What a recipe is judged by, against learning time: the shares and depth of the episodes begun
+# at rest (what an evaluation plays) and the gown's deformation
+TIME_PANELS = (
+    ("rollout/rest_start_hand_in_rate", "hand in, episodes begun at rest", "share of the last 20"),
+    ("rollout/rest_start_past_elbow_rate", "past the elbow, begun at rest", "share of the last 20"),
+    ("rollout/rest_start_arm_progress", "final arm progress, begun at rest", "m, last 20 episodes"),
+    ("rollout/max_deformation", "max deformation", "area ratio, recent episodes"),
+)
+
+
+def time_figure(tables: Mapping[str, pd.DataFrame], title: str, smooth: int = 5) -> Figure:
+    """One curve per run (``tables``: label -> learning table) against hours of learning, the
+    axis a recipe's cost is counted on; each curve a rolling mean of ``smooth`` updates. A run
+    that did not log a panel's column is left out of that panel and named under it."""
+    figure = Figure(figsize=(4.3 * len(TIME_PANELS), 4.2), layout="constrained")
+    figure.suptitle(title)
+    for axes, (column, name, unit) in zip(figure.subplots(1, len(TIME_PANELS)), TIME_PANELS,
+                                          strict=True):  # fmt: skip
+        axes.set(title=name, xlabel="hours of learning", ylabel=unit)
+        axes.grid(alpha=0.3)
+        missing = []
+        for label, table in tables.items():
+            if not _logged(table, column):
+                missing.append(label)
+                continue
+            values = table[column].astype(float).rolling(smooth, min_periods=1).mean()
+            axes.plot(learning_seconds(table) / 3600.0, values, label=label)
+        if missing:
+            axes.set_xlabel("hours of learning\nnot logged: " + ", ".join(missing), fontsize=8)
+    drawn = [axes for axes in figure.axes if axes.lines]
+    if drawn:
+        drawn[0].legend(fontsize=8)
+    return figure
+
+
+def write_time_comparison(progress: Mapping[str, str | Path], out: str | Path, title: str) -> Path:
+    """Draw the learning summaries' tables (``progress``: label -> ``NAME-progress.csv``)
+    against hours of learning into the PNG ``out``."""
+    tables = {label: pd.read_csv(path) for label, path in progress.items()}
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    write_png(out, time_figure(tables, title))
     return out
