@@ -189,7 +189,12 @@ def test_a_rate_carries_a_wilson_interval_that_never_claims_certainty():
 
 
 def test_the_stages_of_dressing_are_the_hand_the_elbow_and_half_the_upper_arm():
-    assert STAGE_DEPTHS == {"hand_in": pytest.approx(0.18), "dressed": pytest.approx(0.44 + 0.15)}
+    assert STAGE_DEPTHS == {
+        "hand_in": pytest.approx(0.18),
+        "past_elbow": pytest.approx(0.44),
+        "dressed": pytest.approx(0.44 + 0.15),
+    }
+    assert SUCCESS_DEPTH == STAGE_DEPTHS["past_elbow"]
     record = run_episode("fixed", "passive", seed=0, horizon=5, gown_vertices=600)
     deep = replace(record, final_arm_progress=0.5)
     assert deep.reached("hand_in") and deep.success and not deep.reached("dressed")
