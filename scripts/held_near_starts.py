@@ -1,7 +1,8 @@
 """Near starts of the curriculum's first level, held still: how often does the hand end in the
 sleeve when the arm keeps its pose (zero ``delta`` actions) and only the robot moves?
 
-The rate a learner's near starts should at least reach (docs/training.md, session 9).
+The rate a learner's near starts should at least reach
+(docs/experiments/2026-12-02-first-level-action-noise.md).
 Run: python scripts/held_near_starts.py side_linear --episodes 20 --seed 100
 """
 

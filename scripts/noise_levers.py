@@ -3,7 +3,8 @@ actuated joint, at the curriculum's first-level near starts.
 
 A ``delta`` action of a moves a PD target by a x ``Human.delta_step``; with actions N(0, std)
 each joint's target steps by std x delta_step, and the fingertip by that times the joint's
-lever (the norm of its column of the fingertip Jacobian), docs/training.md, session 14.
+lever (the norm of its column of the fingertip Jacobian),
+docs/experiments/2026-12-03-noise-levers-paper-preset.md.
 Run: python scripts/noise_levers.py side_linear --std 0.5 --starts 5
 """
 

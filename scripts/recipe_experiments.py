@@ -22,7 +22,7 @@ RUNS = {  # learning summary stem: label
     "front_linear-complete-trpo-floor-s0": "log haptics + variance floor",
     "side_linear-complete-trpo-nofloor-s0": "side_linear: log haptics, no floor",
     "side_linear-complete-trpo-floor-s0": "side_linear: log haptics + variance floor",
-    "front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (session 3)",
+    "front_linear-complete-trpo-warmup-s0": "log haptics + floor + r_d warm-up (2026-12-01)",
     "side_linear-complete-trpo-warmup-s0": "side_linear: + r_d warm-up",
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
     "side_linear-complete-trpo-delta-curriculum-s0": "side_linear: warm-up, delta, curriculum",

@@ -1,4 +1,4 @@
-"""`dressbench bench --compare pybullet` and `--train` (issue 12): the gown exported to OBJ is the
+"""`dressbench bench --compare pybullet` and `--train`: the gown exported to OBJ is the
 same garment, both rates and their ratio are printed, and a training run leaves nothing behind.
 No timing is asserted: these machines' speed varies by 2x."""
 

@@ -1,4 +1,4 @@
-"""Issue 11: leaderboards and training sweeps on a Ray cluster (a local instance of 2 CPUs).
+"""Leaderboards and training sweeps on a Ray cluster (a local instance of 2 CPUs).
 
 The ray backend must write what the local backend writes, bit for bit; a killed worker's episode
 runs again, and counts once; a sweep trains its grid and scores it; a plugin missing on a worker,

@@ -1,4 +1,4 @@
-"""Issue 15: a bad plugin, policy, option or path ends in one clear line, before work starts.
+"""A bad plugin, policy, option or path ends in one clear line, before work starts.
 
 Plugins are fake distributions in a fresh folder on ``sys.path`` (as in
 tests/test_plugins_registry.py); episodes are tiny (horizon 3-5, a 300-vertex gown).

@@ -2,7 +2,7 @@
 
 A short run of the default recipe trains in a temporary folder (its run folder and its policy
 file are thrown away), and its environment steps per second are set against the cores' worth
-of single-process env steps: issue 12's target is 85% of (cores x the single env step). Between
+of single-process env steps: the target is 85% of (cores x the single env step). Between
 the two, the run's own envs stepped alone (its env processes at once, no learner) tell the
 cores' scaling apart from what the training loop costs."""
 

@@ -31,7 +31,7 @@ class CurriculumConfig:
     # of episodes that start near the opening while the curriculum runs, where the robot's first
     # move brings the opening onto the hand (from rest, too, it comes to the hand: near starts
     # teach most of the way); ``held_share`` where it does not (held still, or moved elsewhere:
-    # the whole reach is learned from rest), docs/training.md, session 19
+    # the whole reach is learned from rest), docs/experiments/2026-12-05-held-share-fixed.md
     share: float = 0.8
     held_share: float = 0.5
     first_reach: float = 0.05  # m: at the first level the fingertip starts up to this far away
@@ -41,7 +41,8 @@ class CurriculumConfig:
     # what the rate is taken over: "training", the last ``window`` near starts among the
     # training episodes; "mean", ``trials`` near starts played with the policy's mean actions
     # every ``judge_every`` steps, free of the exploration noise that random-walks ``delta``
-    # targets, but measured no higher and some 10% more steps (docs/training.md, session 13)
+    # targets, but measured no higher and some 10% more steps
+    # (docs/experiments/2026-12-03-judge-mean-actions.md)
     judge: str = "training"
     trials: int = 8
     judge_every: int = 20_000  # environment steps
@@ -69,7 +70,7 @@ class NearStarts(gym.Wrapper):
 
     Along the motion, because the driven rim slides up an arm lying on its path and stops
     against one across it: held still, such near starts end with the hand in about twice as
-    often as ones along the axis (docs/training.md, session 12).
+    often as ones along the axis (docs/experiments/2026-12-03-near-starts-on-path.md).
     """
 
     def __init__(self, env: gym.Env, config: CurriculumConfig, seed: int = 0) -> None:

@@ -23,7 +23,7 @@ class TearConfig:
     """Where a training episode counts the gown as torn."""
 
     # max area ratio; the default is the deformation threshold (2.02: r_d = -0.1), the line a
-    # careful human stays under (docs/training.md, experiments of session 8)
+    # careful human stays under (docs/experiments/2026-12-02-tear-limit-at-threshold.md)
     ratio: float = RewardConfig().limit
 
     def __post_init__(self) -> None:
