@@ -60,8 +60,8 @@ def yarn_edges(gown) -> np.ndarray:
 def test_a_hanging_gown_keeps_its_shape(robot, vertices):
     """Passive human, 400 steps, 3 seeds: area ratio <= 1.10 and yarn-edge stretch <= 10%
     (docs/cloth.md). Measured with 14 iterations: 1.06-1.08 and 8-9% at 2,000 vertices,
-    1.08-1.09 and 9-10% at 1,000. The grid's diagonals shear by up to 29%: a draped woven fabric shears, and
-    shear does not enlarge a triangle (docs/cloth.md)."""
+    1.08-1.09 and 9-10% at 1,000. The grid's diagonals shear by up to 29%: a draped woven
+    fabric shears, and shear does not enlarge a triangle (docs/cloth.md)."""
     worst_ratio, worst_yarn, worst_shear = 0.0, 0.0, 0.0
     for seed in range(3):
         for env, info in episode(robot, "passive", seed, vertices):
