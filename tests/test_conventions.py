@@ -1,8 +1,10 @@
 """The ecosystem's conventions: gymnasium registration, PettingZoo's ``parallel_env``, an
 aligned plugin listing, and a clear error for a plugin name given to ``load_policy``."""
 
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 import gymnasium
 import numpy as np
@@ -72,3 +74,81 @@ def test_load_policy_of_a_missing_path_keeps_its_error(tmp_path):
         dressbench.load_policy(tmp_path / "nothing")
     with pytest.raises(PolicyFileError, match="missing"):
         dressbench.load_policy("no_such_policy_or_plugin")
+
+
+ROOT = Path(__file__).resolve().parent.parent
+DEVELOPMENT_HISTORY = re.compile(r"session [0-9]|issue [0-9]", re.IGNORECASE)
+# cli.py is being rewritten (derived from the configs) elsewhere; its one string that cites an
+# issue goes with that rewrite: drop it from here once it has.
+HISTORY_PENDING = {"dressbench/cli.py"}
+
+
+def _user_facing_files():
+    yield ROOT / "README.md"
+    yield from sorted((ROOT / "docs").rglob("*.md"))
+    for folder in ("dressbench", "tests", "scripts"):
+        for path in sorted((ROOT / folder).rglob("*")):
+            if path.suffix in {".py", ".md", ".sh", ".toml", ".cfg", ".txt"} and path.is_file():
+                yield path
+
+
+def test_docs_and_code_cite_no_sessions_or_issues():
+    """The docs speak to users: what dressbench does and what it measured, never which working
+    session or issue it came from (the dated experiments in docs/experiments/ keep dates)."""
+    found = []
+    for path in _user_facing_files():
+        name = path.relative_to(ROOT).as_posix()
+        if name in HISTORY_PENDING:
+            continue
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if DEVELOPMENT_HISTORY.search(line):
+                found.append(f"{name}:{number}: {line.strip()[:80]}")
+    assert not found, "\n".join(found)
+
+
+MARKDOWN_LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
+
+
+def _anchors(markdown: str) -> set[str]:
+    """GitHub's anchors of a Markdown file's headings (lowercase, punctuation dropped, spaces
+    to hyphens; a repeated heading gets -1, -2, ...)."""
+    anchors, seen = set(), {}
+    for line in _outside_code(markdown):
+        if line.startswith("#"):
+            text = line.lstrip("#").strip().lower()
+            slug = re.sub(r"[^\w\- ]", "", text).replace(" ", "-")
+            count = seen.get(slug, 0)
+            seen[slug] = count + 1
+            anchors.add(slug if count == 0 else f"{slug}-{count}")
+    return anchors
+
+
+def _outside_code(markdown: str):
+    fenced = False
+    for line in markdown.splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            continue
+        if not fenced:
+            yield line
+
+
+def test_every_relative_link_in_the_docs_resolves():
+    """Every relative link and image in README.md and docs/**/*.md names a file that exists,
+    and a #fragment into a Markdown file names one of its headings."""
+    broken = []
+    for doc in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
+        text = doc.read_text(encoding="utf-8")
+        for line in _outside_code(text):
+            for target in MARKDOWN_LINK.findall(line):
+                if re.match(r"[a-z][a-z0-9+.-]*:", target):  # http:, https:, mailto:
+                    continue
+                path, _, fragment = target.partition("#")
+                resolved = (doc.parent / path).resolve() if path else doc
+                where = f"{doc.relative_to(ROOT).as_posix()}: {target}"
+                if not resolved.exists():
+                    broken.append(f"{where} (no such file)")
+                elif fragment and resolved.suffix == ".md":
+                    if fragment not in _anchors(resolved.read_text(encoding="utf-8")):
+                        broken.append(f"{where} (no such heading)")
+    assert not broken, "\n".join(broken)
