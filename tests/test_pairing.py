@@ -57,9 +57,9 @@ def test_the_video_ends_where_the_evaluation_scored_the_same_seed(scored, tmp_pa
 def test_dressbench_render_ends_where_the_evaluation_scored_the_same_seed(scored, tmp_path):
     pytest.importorskip("imageio")
     out = tmp_path / "clip.gif"
-    command = ["render", "--robot", ROBOT, "--human", HUMAN, "--seed", str(SEED), "--out", str(out),
-               "--gown-vertices", str(SMALL["gown_vertices"]), "--horizon", str(SMALL["horizon"])]  # fmt: skip
-    result = CliRunner().invoke(main, command)
+    size = ["--gown-vertices", str(SMALL["gown_vertices"]), "--horizon", str(SMALL["horizon"])]
+    command = ["render", "--robot", ROBOT, "--human", HUMAN, "--seed", str(SEED), "--out", str(out)]
+    result = CliRunner().invoke(main, command + size)
     assert result.exit_code == 0, result.output
     expected = (
         f"arm progress {100 * scored.final_arm_progress:.1f} cm, max deformation "

@@ -173,8 +173,7 @@ def pairing_problem(
     who = describe_human(human, name)
     if ablation is not None and ablation != human.ablation:
         return (
-            f"{who} declares ablation {human.ablation!r}; it cannot run with "
-            f"ablation {ablation!r}"
+            f"{who} declares ablation {human.ablation!r}; it cannot run with ablation {ablation!r}"
         )
     own = declared_actuation(human)
     if actuation is not None and actuation != own:
