@@ -7,6 +7,7 @@ broken, so that one broken package never hides the others and listings can say w
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib
 import os
@@ -52,6 +53,48 @@ class Plugin:
     def origin(self) -> str:
         """``'package version'``, for messages."""
         return f"{self.package} {self.version}"
+
+    def __reduce__(self) -> tuple[Callable[..., Plugin], tuple[str, ...]]:
+        """Pickled without its factory, which the receiving process imports again from
+        ``value`` on first use, without discovering the group: a worker makes instances from
+        its parent's records, and a node without the plugin's package can still say so."""
+        return _unpickled, (*_identity(self), self.status, self.error or "")
+
+
+def _unpickled(
+    name: str, group: str, package: str, version: str, value: str, status: str, error: str
+) -> Plugin:
+    """A record sent to another process; its factory imports the plugin when first called."""
+    record = Plugin(name, group, package, version, value, status, error or None, None)
+    if status != OK:
+        return record
+    return dataclasses.replace(
+        record, factory=_Reloaded(name, group, value, record.from_policy_file)
+    )
+
+
+@dataclass(frozen=True)
+class _Reloaded:
+    """A record's factory in another process: the entry point (or policy file) ``value``,
+    imported on the first call."""
+
+    name: str
+    group: str
+    value: str
+    from_policy_file: bool
+
+    def __call__(self) -> object:
+        return self._factory()
+
+    @functools.cached_property
+    def _factory(self) -> Callable[[], object]:
+        if self.from_policy_file:
+            from ..policy_file import load_policy
+
+            return functools.partial(load_policy, Path(self.value))
+        import importlib.metadata
+
+        return importlib.metadata.EntryPoint(self.name, self.value, self.group).load()
 
 
 class PluginError(Exception):
