@@ -250,7 +250,7 @@ def _preflight(rows: list[Any]) -> dict[tuple[str, str], str]:
     from .evaluation.cells import _instances, plugin_problems
     from .plugins import human_plugins
 
-    robots = [p.name for p in rows if p.ok and p.group.endswith("robots")]
+    robots = [p for p in rows if p.ok and p.group.endswith("robots")]
     humans = [p.name for p in rows if p.ok and p.group.endswith("humans")]
     policies, problems = _instances(human_plugins(), humans)
     problems += plugin_problems(robots, policies)[2]
@@ -585,9 +585,12 @@ def report_command(results: str, videos: bool, workers: int) -> None:
               help="A .gif or .mp4, in a folder that exists.")  # fmt: skip
 @click.option("--seed", default=0, show_default=True, callback=_SEED)
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
-def render(robot, human, path, seed, gown_vertices):
-    """A headless video of one rollout (the human's capsules, the gown, the gripper)."""
+@click.option("--horizon", default=400, show_default=True, callback=_HORIZON)
+def render(robot, human, path, seed, gown_vertices, horizon):
+    """A headless video of one rollout (the human's capsules, the gown, the gripper), in the
+    env the human was made for: the episode its evaluation scores for the same seed."""
     from .video import render_rollout
 
-    video = render_rollout(robot, human, path, seed=seed, gown_vertices=gown_vertices)
-    click.echo(f"video written to {video}")
+    video = render_rollout(robot, human, path, seed=seed, gown_vertices=gown_vertices,
+                           horizon=horizon)  # fmt: skip
+    click.echo(f"video written to {video.path}: {video.summary()}")

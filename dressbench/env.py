@@ -18,14 +18,19 @@ from pettingzoo import ParallelEnv
 from .config import EnvConfig
 from .metrics import deformation_reward, geodesic_contact_reward, upright_reward
 from .observation import human_observation, observation_size
+from .plugins.contract import (
+    WORKSPACE,
+    describe_robot,
+    missing_members,
+    start_pose_problem,
+    step_action_problem,
+)
 from .plugins.protocols import HUMAN_ACTION_SIZE, ROBOT_ACTION_SIZE, ROBOT_DT, ROBOT_MAX_SPEED
 from .scene.world import Scene
 from .state import DressingState, measure
 
 HUMAN, ROBOT = "human", "robot"
 ROBOT_OBS_SIZE = 22
-WORKSPACE = (np.array([-0.3, -1.2, -0.5]), np.array([1.3, 0.8, 1.3]))  # gripper bounds, m
-QUATERNION_TOLERANCE = 1e-3  # how far from 1 the norm of a start pose's quaternion may be
 FAILURE_STEP_REWARD = -17.0  # per remaining step: fingertip 1 m off, deformation maxed
 
 
@@ -47,7 +52,7 @@ class DressingEnv(ParallelEnv):
         robot_name: str | None = None,
         robot_origin: str | None = None,
     ) -> None:
-        if not all(callable(getattr(robot, method, None)) for method in ("reset", "act")):
+        if missing_members(robot):
             raise TypeError(
                 "the robot must be a robot strategy: a plugin name such as 'fixed', or an "
                 f"object with reset(rng) and act(observation); got {robot!r}"
@@ -225,90 +230,13 @@ class DressingEnv(ParallelEnv):
         return self.scene.cloth_positions()
 
 
-def start_pose_problem(pose: Any) -> str | None:
-    """What is wrong with a start pose as a robot strategy's ``reset`` returned it, or None.
-
-    A pose is ``(x, y, z, qx, qy, qz, qw)``: shape (7,), finite, a unit quaternion (norm within
-    ``QUATERNION_TOLERANCE`` of 1; a zero quaternion is no rotation) and a position inside
-    ``WORKSPACE``, absolute in the human frame.
-    """
-    p, problem = _finite_vector(pose, "reset", "a pose", 7, "(x, y, z, qx, qy, qz, qw)",
-                                "(x, y, z, qx, qy, qz, qw) in the human frame")  # fmt: skip
-    if problem:
-        return problem
-    norm = float(np.linalg.norm(p[3:]))
-    if abs(norm - 1.0) > QUATERNION_TOLERANCE:
-        return (
-            f"reset returned the quaternion (qx, qy, qz, qw) = {_cut(p[3:].tolist())} of norm "
-            f"{norm:.4g}, expected a unit quaternion (norm 1 +- {QUATERNION_TOLERANCE:g})"
-        )
-    low, high = WORKSPACE
-    if ((p[:3] < low) | (p[:3] > high)).any():
-        bounds = zip("xyz", low, high, strict=True)
-        box = ", ".join(f"{axis} in [{a:g}, {b:g}]" for axis, a, b in bounds)
-        return (
-            f"reset returned the position {_cut(p[:3].tolist())}, outside the workspace "
-            f"({box} m; start poses are absolute, in the human frame)"
-        )
-    return None
-
-
-def robot_action_problem(action: Any) -> str | None:
-    """What is wrong with a robot strategy's ``act`` output, or None: it must be 3 finite
-    numbers (values outside [-1, 1] are clipped by the step, not refused)."""
-    velocity = "the gripper's velocity in [-1, 1] (times ROBOT_MAX_SPEED m/s)"
-    _, problem = _finite_vector(
-        action, "act", "an action", ROBOT_ACTION_SIZE, "3 numbers", velocity
-    )
-    return problem
-
-
-def _finite_vector(
-    value: Any, method: str, noun: str, size: int, wanted: str, meaning: str
-) -> tuple[np.ndarray, str | None]:
-    """``value`` (what a plugin's ``method`` returned) as a finite float vector of ``size``, or
-    the one-line problem with it: ``noun`` names it ("a pose"), ``wanted`` what any value should
-    be, ``meaning`` what its numbers are."""
-    try:
-        v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        return np.zeros(0), f"{method} returned {_cut(value)}, expected {wanted}"
-    if v.shape != (size,):
-        return v, f"{method} returned {noun} of shape {v.shape}, expected ({size},): {meaning}"
-    if not np.isfinite(v).all():
-        kind = noun.split()[-1]
-        return v, f"{method} returned a non-finite {kind} {_cut(v.tolist())}"
-    return v, None
-
-
-def describe_robot(robot: Any, name: str | None = None, origin: str | None = None) -> str:
-    """A robot strategy in a message: ``"robot strategy 'NAME' from ORIGIN"`` for a plugin
-    loaded by name (``origin``: its package and version), else its class and the distribution
-    that provides its module."""
-    if name is not None:
-        return f"robot strategy {name!r}" + (f" from {origin}" if origin else "")
-    import importlib.metadata
-
-    cls = type(robot)
-    packages = importlib.metadata.packages_distributions().get(cls.__module__.split(".")[0])
-    where = f"robot strategy {cls.__module__}.{cls.__qualname__}"
-    return where + (f" from {packages[0]}" if packages else "")
-
-
-def _cut(value: Any, width: int = 80) -> str:
-    """A value in a one-line message, cut to ``width`` characters."""
-    text = " ".join(repr(value).split())
-    return text if len(text) <= width else text[: width - 3] + "..."
-
-
 def _checked(actions: dict[str, np.ndarray], agent: str, size: int) -> tuple[np.ndarray, int]:
     """Validate an agent's action: the right shape and finite, else ValueError; clip to range."""
     if agent not in actions:
         raise ValueError(f"missing action for agent {agent!r}")
+    problem = step_action_problem(agent, actions[agent], size)
+    if problem:
+        raise ValueError(problem)
     a = np.asarray(actions[agent], dtype=float)
-    if a.shape != (size,):
-        raise ValueError(f"{agent} action must have shape ({size},), got {a.shape}")
-    if not np.isfinite(a).all():
-        raise ValueError(f"{agent} action must be finite, got {a.tolist()}")
     clipped = int(np.count_nonzero(np.abs(a) > 1.0))
     return np.clip(a, -1.0, 1.0), clipped

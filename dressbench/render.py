@@ -33,7 +33,8 @@ SIDES = 8  # facets around each capsule
 CAP_ANGLES = np.radians([-90.0, -45.0, 0.0, 0.0, 45.0, 90.0])  # latitudes of the capsule rings
 CAP_ENDS = np.array([0, 0, 0, 1, 1, 1])  # the endpoint each ring is centred on
 AXIS_LENGTH = 0.2  # m, drawn length of the approach axis
-RENDER_VERSION = 2  # bumped when videos look different: cached report videos are redrawn
+RENDER_VERSION = 3  # bumped when videos look different: cached report videos are redrawn
+# (3: a human runs under its own actuation, so a video shows the episode its cell scored)
 
 
 @dataclass(frozen=True)

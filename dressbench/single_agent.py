@@ -8,7 +8,8 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from .env import HUMAN, ROBOT, ROBOT_MAX_SPEED, DressingEnv, describe_robot, robot_action_problem
+from .env import HUMAN, ROBOT, ROBOT_MAX_SPEED, DressingEnv
+from .plugins.contract import describe_robot, robot_action_problem
 
 
 class HumanEnv(gym.Env):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +46,24 @@ def _require(module: str, package: str, suffix: str) -> None:
         raise RuntimeError(f"writing {suffix} needs {package}: pip install {package}") from None
 
 
+@dataclass(frozen=True)
+class Video:
+    """A rollout video written to ``path``, and what its last caption shows: the episode's
+    arm progress (m) and max deformation after ``steps`` policy steps."""
+
+    path: Path
+    arm_progress: float
+    max_deformation: float
+    steps: int
+
+    def summary(self) -> str:
+        """The last caption's numbers in words, for a line of output."""
+        return (
+            f"arm progress {100.0 * self.arm_progress:.1f} cm, max deformation "
+            f"{self.max_deformation:.2f} after {self.steps} steps"
+        )
+
+
 def render_rollout(
     robot: str,
     human: str,
@@ -53,12 +72,14 @@ def render_rollout(
     every: int = 2,
     fps: int | None = None,
     **options,
-) -> Path:
+) -> Video:
     """Run one seeded rollout of a human plugin with a robot strategy and save it as a video.
 
-    Every ``every``-th policy step becomes a frame; by default the video plays in real time.
-    The path is checked before anything is rendered: a ``.gif`` or ``.mp4`` in a folder that
-    exists, with its writer installed.
+    The env is the one the human was made for (its ablation and actuation), as in its
+    evaluation, so the video shows the episode the evaluation scored for ``seed``. Every
+    ``every``-th policy step becomes a frame; by default the video plays in real time. The path
+    is checked before anything is rendered: a ``.gif`` or ``.mp4`` in a folder that exists,
+    with its writer installed.
     """
     from .checks import check_int, check_output_file
     from .factory import make_human_env
@@ -70,12 +91,13 @@ def render_rollout(
     if fps is not None:
         check_int(fps, "fps", 1)
     policy = load_human(human)
-    env = make_human_env(robot, ablation=policy.ablation, **options)
+    env = make_human_env(robot, human=policy, **options)
     observation, info = env.reset(seed=seed)
     policy.reset(seed)
     renderer = video_renderer()
     scene = env.env.scene
     frames = [renderer.render(scene, rollout_caption(robot, human, 0.0, info), 0.0)]
+    step = 0
     for step in range(1, env.env.config.horizon + 1):
         observation, _, terminated, truncated, info = env.step(policy.act(observation))
         if step % every == 0 or terminated or truncated:
@@ -84,4 +106,4 @@ def render_rollout(
         if terminated or truncated:
             break
     save_video(frames, path, fps=fps or round(1 / (ROBOT_DT * every)))
-    return Path(path)
+    return Video(Path(path), float(info["arm_progress"]), float(info["max_deformation"]), step)

@@ -15,7 +15,6 @@ import argparse
 import numpy as np
 
 from dressbench.factory import make_human_env
-from dressbench.scene.world import actuated_scene
 from dressbench.training.curriculum import CurriculumConfig, NearStarts
 
 SPINE = 3  # the first actuated DOFs are the spine's; the rest the right arm's
@@ -29,7 +28,7 @@ def main() -> None:
     args = parser.parse_args()
     # every episode a near start of the first level
     coach = CurriculumConfig(share=1.0, held_share=1.0)
-    env = NearStarts(make_human_env(args.robot, scene=actuated_scene("delta")), coach)
+    env = NearStarts(make_human_env(args.robot, actuation="delta"), coach)
     human = env.unwrapped.env.scene.human
     levers = []
     for seed in range(args.starts):

@@ -40,7 +40,7 @@ def test_the_check_names_what_is_wrong():
         def act(self, observation):
             return np.zeros(3)
 
-    with pytest.raises(AssertionError, match="unit length"):
+    with pytest.raises(AssertionError, match="expected a unit quaternion"):
         check_robot_plugin(NoQuaternion())
 
 

@@ -7,13 +7,12 @@ import pytest
 
 from dressbench.factory import make_human_env
 from dressbench.metrics import feature_plane
-from dressbench.scene.world import actuated_scene
 from dressbench.training.curriculum import CurriculumConfig, NearStarts, approach_line
 
 
 def near_start(robot: str, seed: int):
     """A near start of the first level: the robot's first move, the hand's points, the opening."""
-    human_env = make_human_env(robot, scene=actuated_scene("delta"))
+    human_env = make_human_env(robot, actuation="delta")
     env = NearStarts(human_env, CurriculumConfig(share=1.0, held_share=1.0))
     _, info = env.reset(seed=seed)
     move = env.unwrapped.robot_next_move()

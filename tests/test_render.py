@@ -135,7 +135,7 @@ def test_rollout_video_is_two_views_at_video_size(tmp_path) -> None:
     from dressbench.video import render_rollout
 
     for suffix in (".gif", ".mp4"):
-        path = render_rollout("fixed", "scripted", tmp_path / f"clip{suffix}", every=2,
-                              horizon=4, gown_vertices=300)  # fmt: skip
-        frames = iio.imread(path, index=None)
+        video = render_rollout("fixed", "scripted", tmp_path / f"clip{suffix}", every=2,
+                               horizon=4, gown_vertices=300)  # fmt: skip
+        frames = iio.imread(video.path, index=None)
         assert frames.shape[1:3] == (VIDEO_SIZE[1], VIDEO_SIZE[0]) and len(frames) >= 2

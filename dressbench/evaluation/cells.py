@@ -9,7 +9,7 @@ from dataclasses import asdict, dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-from ..plugins import human_plugins, load_human, load_robot, robot_plugins
+from ..plugins import Plugin, human_plugin, human_plugins, robot_plugin, robot_plugins
 from .identity import canonical, digest, plain
 
 if TYPE_CHECKING:
@@ -21,15 +21,23 @@ if TYPE_CHECKING:
 class Cell:
     """A robot strategy and a human model, and the ``make_human_env`` options of their episodes.
 
-    ``options`` always holds the human's own ``ablation``: a policy is scored in the setting it
-    was trained for. ``plugins`` holds what the names stood for when the cell was made
-    (``plugin_identities``); a cell made by hand gets it from the registry on first use.
+    ``options`` always holds the human's own ablation and actuation: a policy is scored in the
+    setting it was trained for. ``plugins`` holds what the names stood for when the cell was
+    made (``plugin_identities``), and ``records`` the plugins they were resolved to, so that
+    workers make instances without looking them up again; a cell made by hand gets both from
+    the registry on first use.
     """
 
     robot: str
     human: str
     options: Mapping[str, Any] = field(default_factory=dict, hash=False)
     plugins: Mapping[str, Any] | None = field(default=None, hash=False)
+    records: tuple[Plugin, Plugin] | None = field(default=None, compare=False, repr=False)
+
+    def resolved(self) -> tuple[Plugin, Plugin]:
+        """The robot's and the human's plugin records: those the cell was made with, else the
+        registry's."""
+        return self.records or (robot_plugin(self.robot), human_plugin(self.human))
 
     @property
     def ablation(self) -> str:
@@ -65,7 +73,8 @@ class Cell:
         """
         plugins = self.plugins
         if plugins is None:
-            plugins = plugin_identities(self.robot, self.human)
+            robot, human = self.resolved()
+            plugins = plugin_identities(robot, human, human.factory())
         return plain({**plugins, "config": config_fields(self.config())})
 
     @cached_property
@@ -87,14 +96,13 @@ def config_id(config: EnvConfig) -> str:
     return "cfg-" + hashlib.sha1(canonical(config_fields(config)).encode()).hexdigest()[:10]
 
 
-def robot_identity(name: str) -> dict[str, Any]:
-    """What a robot strategy name stands for: the entry point's name, distribution, version."""
-    plugin = robot_plugins()[name]
-    return {"name": name, "distribution": plugin.package, "version": plugin.version}
+def robot_identity(plugin: Plugin) -> dict[str, Any]:
+    """What a robot strategy stands for: the entry point's name, distribution, version."""
+    return {"name": plugin.name, "distribution": plugin.package, "version": plugin.version}
 
 
-def human_identity(name: str, policy: HumanPolicy) -> dict[str, Any]:
-    """What a human name stands for, given the instance ``policy`` it was loaded as.
+def human_identity(plugin: Plugin, policy: HumanPolicy) -> dict[str, Any]:
+    """What a human stands for, given the instance ``policy`` its record made.
 
     A trained policy file is its checksum (the sha256 of its tensors, which ``load_policy``
     verified) and its observation normalisation, wherever the file lies; an entry point is its
@@ -102,8 +110,7 @@ def human_identity(name: str, policy: HumanPolicy) -> dict[str, Any]:
     """
     from ..policy_file import TrainedPolicy  # light: NumPy and safetensors
 
-    plugin = human_plugins()[name]
-    identity: dict[str, Any] = {"name": name}
+    identity: dict[str, Any] = {"name": plugin.name}
     if plugin.from_policy_file:
         identity["source"] = "policy file"
     else:
@@ -116,36 +123,32 @@ def human_identity(name: str, policy: HumanPolicy) -> dict[str, Any]:
     return identity
 
 
-def plugin_identities(
-    robot: str, human: str, policy: HumanPolicy | None = None
-) -> dict[str, dict[str, Any]]:
-    """``{"robot": robot_identity(robot), "human": human_identity(human, policy)}``; the human
-    is loaded when ``policy`` is None."""
-    policy = policy if policy is not None else load_human(human)
+def plugin_identities(robot: Plugin, human: Plugin, policy: HumanPolicy) -> dict[str, Any]:
+    """``{"robot": robot_identity(robot), "human": human_identity(human, policy)}``."""
     return {"robot": robot_identity(robot), "human": human_identity(human, policy)}
 
 
 def make_cell(robot: str, human: str, policy: HumanPolicy | None = None, **options: Any) -> Cell:
-    """A checked cell: both plugins exist, the options are valid, and the ablation is the human's.
+    """A cell of the named plugins, resolved here once (``resolved_cell``)."""
+    return resolved_cell((robot_plugin(robot), human_plugin(human)), policy, **options)
+
+
+def resolved_cell(
+    records: tuple[Plugin, Plugin], policy: HumanPolicy | None = None, **options: Any
+) -> Cell:
+    """A checked cell of resolved plugins: the options valid, and the env the one the human was
+    made for (its ablation and actuation: ``factory.env_options``; another is a ValueError).
 
     Errors surface here, in the calling process, rather than inside a worker. The cell records
-    the identities of the robot and of ``policy`` (the human, loaded if not given).
+    the identities of the robot and of ``policy`` (the human, made if not given) and carries
+    the records to the workers, which make their instances from them.
     """
-    load_robot(robot)
-    policy = policy if policy is not None else load_human(human)
-    if options.get("ablation", policy.ablation) != policy.ablation:
-        raise ValueError(
-            f"human {human!r} declares ablation {policy.ablation!r}; it is evaluated with it, "
-            f"not with ablation={options['ablation']!r}"
-        )
-    plugins = plugin_identities(robot, human, policy)
-    options = {**options, "ablation": policy.ablation}
-    actuation = getattr(policy, "actuation", "pd")  # a policy of the paper's torques is
-    if actuation != "pd":  # scored with torques
-        from ..scene.world import actuated_scene  # here: importing it loads the physics
+    from ..factory import env_options
 
-        options["scene"] = actuated_scene(actuation, options.get("scene"))
-    cell = Cell(robot, human, options, plugins)
+    robot, human = records
+    policy = policy if policy is not None else human.factory()
+    options = env_options(policy, **options)
+    cell = Cell(robot.name, human.name, options, plugin_identities(robot, human, policy), records)
     cell.config()  # an unknown option raises TypeError now
     return cell
 
@@ -169,7 +172,7 @@ def leaderboard_cells(
         for name, policy in policies.items()
         if not isinstance(getattr(policy, "robot", None), str) or policy.robot in robot_names
     }  # humans for robots not asked for are neither checked nor scored
-    robot_names, meant, found = plugin_problems(robot_names, meant)
+    good, meant, found = plugin_problems([robot_records[name] for name in robot_names], meant)
     for noun, name, problem in problems + found:
         records = robot_records if noun == "robot" else human_records
         warnings.warn(
@@ -177,38 +180,39 @@ def leaderboard_cells(
             stacklevel=2,
         )
     return [
-        make_cell(robot, name, policy, **options)
-        for robot in robot_names
+        resolved_cell((robot, human_records[name]), policy, **options)
+        for robot in good
         for name, policy in meant.items()
-        if policy.robot in (None, robot)
+        if policy.robot in (None, robot.name)
     ]
 
 
 def plugin_problems(
-    robots: Iterable[str], humans: Mapping[str, HumanPolicy]
-) -> tuple[list[str], dict[str, HumanPolicy], list[tuple[str, str, str]]]:
+    robots: Iterable[Plugin], humans: Mapping[str, HumanPolicy]
+) -> tuple[list[Plugin], dict[str, HumanPolicy], list[tuple[str, str, str]]]:
     """The preflight of an evaluation, in this process: which plugins can be run.
 
     Each robot strategy gets one reset and one act in a small real env
-    (``preflight.robot_problem``); each human instance its metadata checked (ablation, robot,
-    ``obs_dim`` against the ablation's observation) and one act on a real observation of its
-    ablation (``preflight.human_problem``). Returns the robots and humans that pass, and a
-    ``(noun, name, why)`` for each that does not.
+    (``preflight.robot_problem``); each human instance what it declares checked (ablation,
+    robot, actuation, ``obs_dim`` against the ablation's observation) and one act on a real
+    observation of its ablation (``preflight.human_problem``). Returns the robots and humans
+    that pass, and a ``(noun, name, why)`` for each that does not.
     """
-    from ..preflight import Observations, human_metadata_problem, human_problem, robot_problem
+    from ..plugins.contract import human_declaration_problem
+    from ..preflight import Observations, human_problem, robot_problem
 
     problems: list[tuple[str, str, str]] = []
     good_robots = []
-    for name in robots:
-        problem = robot_problem(name)
+    for robot in robots:
+        problem = robot_problem(robot)
         if problem:
-            problems.append(("robot", name, problem))
+            problems.append(("robot", robot.name, problem))
         else:
-            good_robots.append(name)
+            good_robots.append(robot)
     good_humans: dict[str, HumanPolicy] = {}
     observations = Observations(good_robots[0]) if good_robots else None
     for name, policy in humans.items():
-        problem = human_metadata_problem(policy)
+        problem = human_declaration_problem(policy)
         if problem is None and observations is not None:
             problem = human_problem(policy, observations(policy.ablation))
         if problem:
@@ -218,19 +222,20 @@ def plugin_problems(
     return good_robots, good_humans, problems
 
 
-def checked_pair(robot: str, human: str) -> HumanPolicy:
-    """The human instance of one cell after the preflight (``plugin_problems``) of both
-    plugins; a ValueError naming the plugin, its package and why when one fails it."""
-    load_robot(robot)  # an unknown or broken robot: its PluginError first
-    policy = load_human(human)
-    _, _, problems = plugin_problems([robot], {human: policy})
+def checked_cell(robot: str, human: str, **options: Any) -> Cell:
+    """The cell of one robot and one human, their plugins resolved once and through the
+    preflight (``plugin_problems``); a ValueError naming the plugin, its package and why when
+    one fails it."""
+    records = robot_plugin(robot), human_plugin(human)  # unknown or broken: its PluginError
+    policy = records[1].factory()
+    _, _, problems = plugin_problems([records[0]], {human: policy})
     if problems:
         noun, name, problem = problems[0]
-        record = (robot_plugins() if noun == "robot" else human_plugins())[name]
+        record = records[0] if noun == "robot" else records[1]
         raise ValueError(
             f"{noun} plugin {name!r} from {_origin(record)} cannot be evaluated: {problem}"
         )
-    return policy
+    return resolved_cell(records, policy, **options)
 
 
 def _instances(

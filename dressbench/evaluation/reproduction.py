@@ -24,7 +24,7 @@ import pandas as pd
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
 from ..plugins import human_plugins, load_human
-from .cells import checked_pair, make_cell
+from .cells import checked_cell
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import bootstrap_ci, wilson_ci
@@ -98,10 +98,7 @@ def reproduction_cells(humans: Mapping[Role, Sequence[str]], **options: Any) -> 
     pairs = [(role.robot, human) for role, names in humans.items() for human in names]
     complete = [h for role, names in humans.items() if role.ablation == "complete" for h in names]
     pairs += [(robot, human) for human in complete for robot in STRATEGIES]
-    return [
-        make_cell(robot, human, checked_pair(robot, human), **options)
-        for robot, human in dict.fromkeys(pairs)
-    ]
+    return [checked_cell(robot, human, **options) for robot, human in dict.fromkeys(pairs)]
 
 
 def reproduce(

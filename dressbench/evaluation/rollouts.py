@@ -96,12 +96,12 @@ class Runner:
 
     def __init__(self, cell: Cell) -> None:
         from ..factory import make_human_env
-        from ..plugins import load_human
 
         self.cell = cell
-        self.policy = load_human(cell.human)
-        _check_unchanged(cell, plugin_identities(cell.robot, cell.human, self.policy))
-        self.env = make_human_env(cell.robot, **cell.options)
+        robot, human = cell.resolved()
+        self.policy = human.factory()
+        _check_unchanged(cell, plugin_identities(robot, human, self.policy))
+        self.env = make_human_env(robot, human=self.policy, **cell.options)
         self.horizon = cell.config().horizon
 
     def run(self, seed: int, success_depth: float = SUCCESS_DEPTH) -> EpisodeRecord:

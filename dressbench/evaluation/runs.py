@@ -19,7 +19,7 @@ from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
 from .archive import load_archive, save_archive
-from .cells import Cell, checked_pair, leaderboard_cells, make_cell
+from .cells import Cell, checked_cell, leaderboard_cells
 from .remote import ray_tasks
 from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
@@ -55,7 +55,7 @@ def evaluate(
     numbers.
     """
     where = check_run(episodes, seed, workers, out, backend, address)
-    cell = make_cell(robot, human, checked_pair(robot, human), **options)
+    cell = checked_cell(robot, human, **options)
     episodes_table, _ = evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options,
         backend=where,

@@ -18,10 +18,12 @@ from dressbench.plugins.registry import (
     PluginError,
     UnknownPluginError,
     all_plugins,
+    human_plugin,
     human_plugins,
     load_human,
     load_robot,
     refresh,
+    robot_plugin,
     robot_plugins,
 )
 
@@ -37,9 +39,11 @@ __all__ = [
     "RobotStrategy",
     "UnknownPluginError",
     "all_plugins",
+    "human_plugin",
     "human_plugins",
     "load_human",
     "load_robot",
     "refresh",
+    "robot_plugin",
     "robot_plugins",
 ]

@@ -15,6 +15,7 @@ class Passive:
     api_version: ClassVar[int] = 1
     robot: str | None = None
     ablation: str = "complete"
+    actuation: str = "pd"
 
     def reset(self, seed: int | None = None) -> None:
         pass
@@ -29,6 +30,7 @@ class Random:
     api_version: ClassVar[int] = 1
     robot: str | None = None
     ablation: str = "complete"
+    actuation: str = "pd"
 
     def __init__(self) -> None:
         self._rng = np.random.default_rng()
@@ -47,6 +49,7 @@ class Reach:
     api_version: ClassVar[int] = 1
     robot: str | None = None
     ablation: str = "complete"
+    actuation: str = "pd"
 
     def __init__(self) -> None:
         from ..scene.human import Human  # the body model, for its joint ranges only
@@ -74,6 +77,7 @@ class Scripted:
     api_version: ClassVar[int] = 1
     robot: str | None = None
     ablation: str = "complete"
+    actuation: str = "pd"
     step_size = 0.03  # m of fingertip motion asked for per policy step
     damping = 0.05  # m, of the damped least squares
     back_off_force = 20.0  # N: above this total haptic force the hand moves back

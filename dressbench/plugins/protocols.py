@@ -53,12 +53,16 @@ class HumanPolicy(Protocol):
     """A human model: an action in [-1, 1]^11 for each human observation.
 
     ``robot`` and ``ablation`` name the strategy and ablation it was trained for (``robot`` is
-    None for a policy meant for any strategy).
+    None for a policy meant for any strategy). ``actuation`` says how its actions drive its
+    joints (``scene.actuation.ACTUATIONS``); a human without the attribute acts by "pd"
+    (``contract.DEFAULT_ACTUATION``). Every env that runs a human is built with both
+    (``factory.make_human_env(robot, human=...)``).
     """
 
     api_version: ClassVar[int]
     robot: str | None
     ablation: str
+    # ``actuation: str`` is optional, so not a member: isinstance holds for humans without it
 
     def reset(self, seed: int | None = None) -> None:
         """Start an episode; stochastic policies reseed from ``seed``."""

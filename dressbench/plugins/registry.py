@@ -7,6 +7,7 @@ broken, so that one broken package never hides the others and listings can say w
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib
 import os
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import cast
 
 from dressbench.plugins import protocols
+from dressbench.plugins.contract import HUMAN_ATTRIBUTES, api_version_problem, interface_problem
 
 OK = "ok"
 ERROR = "error"
@@ -51,6 +53,48 @@ class Plugin:
     def origin(self) -> str:
         """``'package version'``, for messages."""
         return f"{self.package} {self.version}"
+
+    def __reduce__(self) -> tuple[Callable[..., Plugin], tuple[str, ...]]:
+        """Pickled without its factory, which the receiving process imports again from
+        ``value`` on first use, without discovering the group: a worker makes instances from
+        its parent's records, and a node without the plugin's package can still say so."""
+        return _unpickled, (*_identity(self), self.status, self.error or "")
+
+
+def _unpickled(
+    name: str, group: str, package: str, version: str, value: str, status: str, error: str
+) -> Plugin:
+    """A record sent to another process; its factory imports the plugin when first called."""
+    record = Plugin(name, group, package, version, value, status, error or None, None)
+    if status != OK:
+        return record
+    return dataclasses.replace(
+        record, factory=_Reloaded(name, group, value, record.from_policy_file)
+    )
+
+
+@dataclass(frozen=True)
+class _Reloaded:
+    """A record's factory in another process: the entry point (or policy file) ``value``,
+    imported on the first call."""
+
+    name: str
+    group: str
+    value: str
+    from_policy_file: bool
+
+    def __call__(self) -> object:
+        return self._factory()
+
+    @functools.cached_property
+    def _factory(self) -> Callable[[], object]:
+        if self.from_policy_file:
+            from ..policy_file import load_policy
+
+            return functools.partial(load_policy, Path(self.value))
+        import importlib.metadata
+
+        return importlib.metadata.EntryPoint(self.name, self.value, self.group).load()
 
 
 class PluginError(Exception):
@@ -146,19 +190,17 @@ class _Kind:
     group: str
     noun: str
     api_version: int
-    methods: tuple[str, ...]
-    attributes: tuple[str, ...]
+    attributes: tuple[str, ...]  # what its plugins declare, besides the protocol's methods
     # Each source lists a group's plugins: installed entry points, and for humans trained files.
     sources: tuple[Callable[[str], list[_Entry]], ...] = (_entry_point_entries,)
 
 
-_ROBOT = _Kind(protocols.ROBOT_GROUP, "robot", protocols.ROBOT_API_VERSION, ("reset", "act"), ())
+_ROBOT = _Kind(protocols.ROBOT_GROUP, "robot", protocols.ROBOT_API_VERSION, ())
 _HUMAN = _Kind(
     protocols.HUMAN_GROUP,
     "human",
     protocols.HUMAN_API_VERSION,
-    ("reset", "act"),
-    ("robot", "ablation"),
+    HUMAN_ATTRIBUTES,
     sources=(_entry_point_entries, _policy_file_entries),
 )
 
@@ -176,30 +218,6 @@ def _one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {lines[0]}" if lines else type(exc).__name__
 
 
-def _api_problem(kind: _Kind, obj: object) -> str | None:
-    """Why ``obj`` (a factory or an instance) has the wrong ``api_version``, or None."""
-    version = getattr(obj, "api_version", None)
-    if version is None:
-        return f"api_version is missing (this dressbench expects {kind.api_version})"
-    if isinstance(version, bool) or not isinstance(version, int):
-        return f"api_version must be the integer {kind.api_version}, found {version!r}"
-    if version != kind.api_version:
-        return (
-            f"api_version {version} is not supported (this dressbench expects {kind.api_version})"
-        )
-    return None
-
-
-def _interface_problem(kind: _Kind, instance: object) -> str | None:
-    """Why ``instance`` does not implement the group's protocol, or None if it does."""
-    methods = [m for m in kind.methods if not callable(getattr(instance, m, None))]
-    attributes = [a for a in kind.attributes if not hasattr(instance, a)]
-    missing = [f"method {m}()" for m in methods] + [f"attribute {a}" for a in attributes]
-    api = _api_problem(kind, instance)
-    problems = [f"not a {kind.noun} plugin: missing " + ", ".join(missing)] if missing else []
-    return "; ".join(problems + [api] if api else problems) or None
-
-
 def _check(kind: _Kind, entry: _Entry) -> tuple[Callable[[], object] | None, str | None]:
     """Import the entry and check one instance of it: ``(factory, None)`` or ``(None, why)``."""
     try:
@@ -209,14 +227,16 @@ def _check(kind: _Kind, entry: _Entry) -> tuple[Callable[[], object] | None, str
     if not callable(factory):
         kind_of = type(factory).__name__
         return None, f"{entry.value} is not callable ({kind_of}): expected a class or factory"
-    if hasattr(factory, "api_version") and (problem := _api_problem(kind, factory)):
+    if hasattr(factory, "api_version") and (
+        problem := api_version_problem(factory, kind.api_version)
+    ):
         return None, problem  # an old or future plugin: do not even construct it
     try:
         instance = factory()
     except (Exception, SystemExit) as exc:
         return None, f"creating an instance failed: {_one_line(exc)}"
     try:
-        problem = _interface_problem(kind, instance)
+        problem = interface_problem(instance, kind.noun, kind.api_version, kind.attributes)
     except Exception as exc:  # a property that raises while being checked
         return None, f"checking the instance failed: {_one_line(exc)}"
     return (None, problem) if problem else (factory, None)
@@ -318,8 +338,8 @@ def _unknown(kind: _Kind, name: str, plugins: dict[str, Plugin]) -> UnknownPlugi
     return UnknownPluginError(f"unknown {kind.noun} {name!r}:{hint} {listing}")
 
 
-def _load(kind: _Kind, name: str) -> object:
-    """A new instance of the named plugin of the group."""
+def _resolve(kind: _Kind, name: str) -> Plugin:
+    """The ok record of the named plugin of the group, else its ``PluginError``."""
     plugins = _by_name(kind)
     plugin = plugins.get(name)
     if plugin is None:
@@ -327,14 +347,24 @@ def _load(kind: _Kind, name: str) -> object:
     if plugin.factory is None:
         message = f"{kind.noun} plugin {name!r} from {plugin.origin} is broken: {plugin.error}"
         raise BrokenPluginError(message, plugin)
-    return plugin.factory()
+    return plugin
+
+
+def robot_plugin(name: str) -> Plugin:
+    """The record of the robot strategy ``name``, resolved once for all its instances."""
+    return _resolve(_ROBOT, name)
+
+
+def human_plugin(name: str) -> Plugin:
+    """The record of the human ``name``, resolved once for all its instances."""
+    return _resolve(_HUMAN, name)
 
 
 def load_robot(name: str) -> protocols.RobotStrategy:
     """A new instance of the robot strategy registered as ``name`` (checked on discovery)."""
-    return cast(protocols.RobotStrategy, _load(_ROBOT, name))
+    return cast(protocols.RobotStrategy, robot_plugin(name).factory())
 
 
 def load_human(name: str) -> protocols.HumanPolicy:
     """A new instance of the human policy registered as ``name`` (checked on discovery)."""
-    return cast(protocols.HumanPolicy, _load(_HUMAN, name))
+    return cast(protocols.HumanPolicy, human_plugin(name).factory())

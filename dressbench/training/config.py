@@ -53,7 +53,8 @@ class TrainConfig:
     # explores too little from rest once the curriculum is over (docs/training.md)
     action_std: float = 0.5
     # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
-    # pose, so a near start of the curriculum stays near), or torques
+    # pose, so a near start of the curriculum stays near), or torques; the trained policy
+    # declares it, and every env that runs the policy takes it from there
     actuation: str = "delta"
     haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
     # added to each feature's running variance when normalising (VecNormalize's epsilon): a
@@ -98,18 +99,17 @@ class TrainConfig:
         the env options are valid, and ``out`` and ``policies`` are folders that exist or can
         be created (else a ``ValueError``)."""
         from ..config import EnvConfig  # here: importing it loads the physics
-        from ..plugins import load_robot, robot_plugins
+        from ..plugins import robot_plugin
         from ..preflight import robot_problem
 
-        load_robot(self.robot)
+        plugin = robot_plugin(self.robot)
         EnvConfig(ablation=self.ablation, gown_vertices=self.gown_vertices, horizon=self.horizon)
         check_folder(self.out, "out")
         check_folder(self.policies, "policies")
-        problem = robot_problem(self.robot)
+        problem = robot_problem(plugin)
         if problem:
-            origin = robot_plugins()[self.robot].origin
-            raise ValueError(f"robot plugin {self.robot!r} from {origin} cannot be trained for: "
-                             f"{problem}")  # fmt: skip
+            raise ValueError(f"robot plugin {self.robot!r} from {plugin.origin} cannot be trained "
+                             f"for: {problem}")  # fmt: skip
 
     @classmethod
     def preset(cls, recipe: str = "default", **changes) -> TrainConfig:

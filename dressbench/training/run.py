@@ -30,7 +30,6 @@ from tqdm import tqdm
 from ..files import write_csv, write_json
 from ..metrics import STAGE_DEPTHS
 from ..provenance import git_commit, versions
-from ..scene.world import actuated_scene
 from .config import TrainConfig
 from .curriculum import CurriculumConfig, NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
@@ -338,7 +337,7 @@ class _EnvFactory:
 
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
-                             horizon=cfg.horizon, scene=actuated_scene(cfg.actuation))  # fmt: skip
+                             horizon=cfg.horizon, actuation=cfg.actuation)  # fmt: skip
         if cfg.haptics != "newtons":
             env = ScaledHaptics(env, cfg.ablation, cfg.haptics)
         keywords = ("arm_progress", "max_deformation", "sim_failure")
