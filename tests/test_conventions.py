@@ -11,7 +11,8 @@ from click.testing import CliRunner
 from pettingzoo import ParallelEnv
 
 import dressbench
-from dressbench.cli import aligned, main
+from dressbench.cli import main
+from dressbench.evaluation.listing import aligned
 from dressbench.policy_file import PolicyFileError
 
 TINY = {"horizon": 3, "gown_vertices": 300}

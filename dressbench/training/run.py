@@ -15,7 +15,7 @@ import os
 import shutil
 import time
 from collections.abc import Iterable
-from dataclasses import replace
+from dataclasses import fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +29,7 @@ from ..files import write_csv, write_json
 from ..provenance import git_commit, versions
 from ..scene.world import actuated_scene
 from .callbacks import Checkpoints, CurriculumLevels, Progress, StopAt, Warmup
-from .config import TrainConfig
+from .config import TrainConfig, option_changes
 from .curriculum import NearStarts
 from .summary import learning_table, training_seconds, write_learning_table
 from .tear import TornGown
@@ -49,6 +49,18 @@ def train(config: TrainConfig | None = None, *, progress: bool = True, **options
     """Train (or resume) a human model and export it; returns the policy's JSON path."""
     config = replace(config or TrainConfig(), **options)
     return TrainingRun(config).run(progress=progress)
+
+
+def train_config(recipe: str | None = None, *, resume: bool = False, **options) -> TrainConfig:
+    """The run that ``dressbench train`` makes of its options (``option_changes``) on ``recipe``
+    (None: the default one). With ``resume``, a run folder with a checkpoint goes on as its
+    run.json records it, but for the settings these options change (every one, given a
+    ``recipe``)."""
+    changes = option_changes(**options)
+    config = TrainConfig.preset(recipe or "default", **changes)
+    if not resume:
+        return config
+    return continued_config(config, {f.name for f in fields(TrainConfig)} if recipe else changes)
 
 
 def recorded_config(folder: Path | str) -> TrainConfig:
