@@ -49,8 +49,9 @@ class TrainConfig:
     hours: float | None = option(None, "Stop and export once the run has learned this long, "
                                  "its sessions summed (default: no budget).")  # fmt: skip
     envs: int = option(0, "Parallel env processes (default: one per core).", ANY_PROCESSES)
-    envs_per_process: int = option(1, "Envs each env process steps one after another "
-                                   "(vec_env.py).", AT_LEAST_ONE)  # fmt: skip
+    # envs each process steps one after another (vec_env.py)
+    envs_per_process: int = option(1, "Envs each env process steps one after another.",
+                                   AT_LEAST_ONE)  # fmt: skip
     seed: int = option(0, "Training seed.", check_seed)
     # the training gown: the scene's resolution for now, a setting of its own
     gown_vertices: int = option_like(EnvConfig, "gown_vertices", EnvConfig.gown_vertices)
