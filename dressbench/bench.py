@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .checks import check_device, check_gown_vertices, check_int
+from .config import SceneOptions
 from .observation import human_observation
 from .scene.body import N_ACTIONS
 from .scene.clock import POLICY_DT
@@ -20,6 +21,16 @@ from .scene.garment import Gown, GownConfig, make_gown, write_obj
 from .scene.geometry import transform_points
 from .scene.world import Scene, SceneConfig
 from .state import measure
+
+COMPARE_VERTICES = 4000  # the gown timed beside PyBullet's cloth when none is given
+
+
+def resolutions(quick: bool = False) -> tuple[int, ...]:
+    """The gown resolutions timed when none is given: the scene's default, and unless ``quick``
+    half and twice it."""
+    default = SceneOptions.gown_vertices
+    return (default,) if quick else (default // 2, default, 2 * default)
+
 
 # The gripper in front of the right shoulder, the sleeve pointing away from the human.
 BENCH_GRIPPER = np.array([0.45, -0.19, 0.52, 0.0, 0.0, 0.0, 1.0])
@@ -134,7 +145,7 @@ def pybullet_module() -> Any:
 
 
 def compare_pybullet(
-    vertices: int = 4000,
+    vertices: int = COMPARE_VERTICES,
     steps: int = 200,
     device: str = "cpu",
     repeats: int = 3,
@@ -243,6 +254,20 @@ def _best_time(run, repeats: int) -> float:
         run()
         times.append(time.perf_counter() - start)
     return min(times)
+
+
+def table_header(compare: bool = False) -> str:
+    """The header of ``table_line``'s columns (with simulated seconds per wall second)."""
+    sim = f" {'sim s/s':>9}" if compare else ""
+    return f"{'vertices':>8} {'what':>8} {'steps/s':>9} {'ms/step':>9}{sim}"
+
+
+def table_line(row: dict) -> str:
+    """A timing row as a line of ``table_header``'s columns."""
+    sim = f" {row['sim_seconds_per_second']:>9.3f}" if "sim_seconds_per_second" in row else ""
+    flag = "  (sim failure)" if row["sim_failure"] else ""
+    return (f"{row['vertices']:>8} {row['what']:>8} {row['steps_per_second']:>9.1f}"
+            f" {row['ms_per_step']:>9.3f}{sim}{flag}")  # fmt: skip
 
 
 def timing_row(vertices: int, what: str, steps: int, seconds: float, failed: bool = False) -> dict:

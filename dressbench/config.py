@@ -1,14 +1,63 @@
-"""Configuration of an environment as dataclasses: the scene, the reward, the task."""
+"""Configuration of an environment as dataclasses: the scene, the reward, the task.
+
+A field made with ``option`` carries its command-line help and check: the command line reads
+its options, defaults and help from these dataclasses.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
-from .checks import check_gown_vertices, check_horizon
+from .checks import check_device, check_gown_vertices, check_horizon
 from .metrics import deformation_limit
-from .observation import check_ablation
+from .observation import ABLATIONS, check_ablation
 from .scene.clock import POLICY_DT
+from .scene.garment import GownConfig
 from .scene.world import SceneConfig
+
+
+def option(default: Any, help: str, check: Callable[..., Any] | None = None, **more: Any) -> Any:
+    """A dataclass field that is also a command-line option: its default, its help, the check
+    of a value given (``check(value, name)``) and any more of click's settings (``choices``)."""
+    return field(default=default, metadata={"help": help, "check": check, **more})
+
+
+def option_like(config: type, name: str, default: Any) -> Any:
+    """The option ``name`` of ``config`` (its help and check) with another ``default``."""
+    (same,) = (f for f in fields(config) if f.name == name)
+    return field(default=default, metadata=same.metadata)
+
+
+@dataclass(frozen=True)
+class SceneOptions:
+    """The two scene settings chosen per env: the gown's resolution and the cloth's device.
+
+    They are the one owner of both: ``applied`` writes them into a ``SceneConfig``, whose own
+    ``gown.target_vertices`` and ``device`` are left at their defaults (another value there,
+    unlike these, is refused in one line rather than overwritten).
+    """
+
+    gown_vertices: int = option(GownConfig.target_vertices, "The gown's resolution, in "
+                                "vertices.", check_gown_vertices)  # fmt: skip
+    device: str = option(SceneConfig.device, "Warp device for the cloth.", check_device)
+
+    def __post_init__(self) -> None:
+        check_gown_vertices(self.gown_vertices)  # the device is checked where it is used
+
+    def applied(self, scene: SceneConfig) -> SceneConfig:
+        """``scene`` with this resolution and device."""
+        for name, where, theirs in (
+            ("gown_vertices", "scene.gown.target_vertices", scene.gown.target_vertices),
+            ("device", "scene.device", scene.device),
+        ):
+            ours = getattr(self, name)
+            if theirs not in (getattr(SceneOptions, name), ours):
+                raise ValueError(f"{where} is {theirs!r} but {name} {ours!r}: set {name} alone "
+                                 f"(it sets {where})")  # fmt: skip
+        gown = replace(scene.gown, target_vertices=self.gown_vertices)
+        return replace(scene, gown=gown, device=self.device)
 
 
 @dataclass(frozen=True)
@@ -34,17 +83,18 @@ class RewardConfig:
 
 
 @dataclass(frozen=True)
-class EnvConfig:
-    """Everything an environment needs besides the robot strategy."""
+class EnvConfig(SceneOptions):
+    """Everything an environment needs besides the robot strategy: the scene options
+    (``gown_vertices``, ``device``) and these."""
 
-    ablation: str = "complete"  # "complete", "no_haptics" or "no_task"
-    horizon: int = 400  # policy steps per episode (16 s)
-    gown_vertices: int = 2000  # the gown's resolution
-    device: str = "cpu"  # Warp device for the cloth
+    ablation: str = option("complete", "What the human senses.", choices=ABLATIONS)
+    horizon: int = option(400, "Policy steps per episode (16 s).", check_horizon)
     reward: RewardConfig = field(default_factory=RewardConfig)
     scene: SceneConfig = field(default_factory=SceneConfig)
 
     def __post_init__(self) -> None:
+        super().__post_init__()
+        self.applied(self.scene)  # a scene setting another resolution or device: refused now
         check_ablation(self.ablation)
         step = self.scene.dt * self.scene.frame_skip
         if abs(step - POLICY_DT) > 1e-9:
@@ -53,12 +103,10 @@ class EnvConfig:
                 f"dt x frame_skip = {self.scene.dt} x {self.scene.frame_skip} = {step:.4g} s"
             )
         check_horizon(self.horizon)
-        check_gown_vertices(self.gown_vertices)
 
     def scene_config(self) -> SceneConfig:
         """The scene settings with this config's resolution and device applied."""
-        gown = replace(self.scene.gown, target_vertices=self.gown_vertices)
-        return replace(self.scene, gown=gown, device=self.device)
+        return self.applied(self.scene)
 
     @classmethod
     def build(cls, config: EnvConfig | None = None, **overrides) -> EnvConfig:

@@ -1,11 +1,17 @@
 """The command line is a thin layer over the library."""
 
 import json
+from dataclasses import replace
 
 import pandas as pd
+import pytest
 from click.testing import CliRunner
 
 from dressbench.cli import main
+from dressbench.config import EnvConfig
+from dressbench.scene.garment import GownConfig
+from dressbench.scene.world import SceneConfig
+from dressbench.training.config import TrainConfig
 
 
 def test_bench_prints_one_json_object_per_measurement():
@@ -72,3 +78,50 @@ def test_reproduce_refuses_a_doc_without_a_results_block_before_it_evaluates(tmp
     )
     assert result.exit_code == 1 and "has no results block" in result.output
     assert len(result.output.strip().splitlines()) == 1 and not out.exists()
+
+
+def _default(command: list[str], name: str):
+    """The default the command line shows for ``name`` in ``command`` (e.g. ["train"])."""
+    group = main
+    for word in command:
+        group = group.commands[word]
+    return next(p.default for p in group.params if p.name == name)
+
+
+def test_the_defaults_the_command_line_shows_are_the_configs():
+    gown = GownConfig.target_vertices
+    assert _default(["train"], "gown_vertices") == TrainConfig.gown_vertices == gown
+    assert _default(["sweep"], "horizon") == TrainConfig.horizon == EnvConfig.horizon
+    for command in (["evaluate"], ["evaluate", "leaderboard"], ["render"]):
+        assert _default(command, "gown_vertices") == EnvConfig.gown_vertices
+    assert _default(["evaluate", "reproduce"], "horizon") == EnvConfig.horizon
+    assert _default(["bench"], "device") == SceneConfig.device
+    for name in ("robot", "algo", "ablation", "seed", "out", "policies", "recipe"):
+        assert _default(["train"], name) == getattr(TrainConfig, name), name
+
+
+def test_train_builds_the_config_the_library_builds_from_the_same_options(tmp_path, monkeypatch):
+    from dressbench.training import run
+
+    built = []
+    monkeypatch.setattr(run, "train", lambda config: built.append(config) or tmp_path / "p.json")
+    flags = ["--robot", "front_linear", "--seed", "3", "--no-curriculum", "--tear-limit", "3",
+             "--out", str(tmp_path), "--timesteps", "100"]  # fmt: skip
+    result = CliRunner().invoke(main, ["train", *flags])
+    assert result.exit_code == 0, result.output
+    library = run.train_config(robot="front_linear", seed=3, curriculum=False, tear_limit=3.0,
+                               out=str(tmp_path), timesteps=100, resume=True)  # fmt: skip
+    assert built == [library] and library.curriculum is None and library.tear.ratio == 3.0
+
+
+def test_a_scene_setting_the_resolution_or_device_unlike_the_env_options_is_refused():
+    """The env's ``gown_vertices`` and ``device`` are the one owner: they set the scene's, and a
+    scene given with other values of its own is refused in one line, never overwritten."""
+    scene = SceneConfig(gown=GownConfig(target_vertices=1000))
+    with pytest.raises(ValueError) as error:
+        EnvConfig(scene=scene)
+    assert "gown_vertices" in str(error.value) and len(str(error.value).splitlines()) == 1
+    with pytest.raises(ValueError, match="device"):
+        EnvConfig(scene=replace(SceneConfig(), device="cuda"))
+    assert EnvConfig(gown_vertices=1000, scene=scene).scene_config() == scene
+    assert EnvConfig(gown_vertices=600).scene_config().gown.target_vertices == 600

@@ -10,8 +10,12 @@ from ..policy_file import PolicyFileError, TrainedPolicy, list_policies, load_po
 from .config import TrainConfig
 from .export import save_policy
 
+TRAIN_MODULES = {"torch": "torch", "stable_baselines3": "stable-baselines3",
+                 "sb3_contrib": "sb3-contrib", "tensorboard": "tensorboard"}  # fmt: skip
+
 __all__ = [
     "PolicyFileError",
+    "require_train_extra",
     "TrainedPolicy",
     "list_policies",
     "load_policy",
@@ -19,13 +23,28 @@ __all__ = [
     "save_policy",
     "TrainConfig",
     "train",
+    "train_config",
 ]
 
 
-def __getattr__(name: str):
-    """``train`` loads torch and stable-baselines3, so it is imported when first asked for."""
-    if name == "train":
-        from .run import train
+def require_train_extra() -> None:
+    """Training's packages (the ``train`` extra) are installed, or a ValueError in one line
+    saying what to do."""
+    import importlib.util
 
-        return train
+    missing = [
+        dist for module, dist in TRAIN_MODULES.items() if not importlib.util.find_spec(module)
+    ]
+    if missing:
+        raise ValueError(f"training needs {', '.join(missing)}: pip install 'dressbench[train]' "
+                         f"(evaluating and rendering trained humans does not)")  # fmt: skip
+
+
+def __getattr__(name: str):
+    """``train`` and ``train_config`` load torch and stable-baselines3, so they are imported
+    when first asked for."""
+    if name in ("train", "train_config"):
+        from . import run
+
+        return getattr(run, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -6,6 +6,8 @@ import dataclasses
 import math
 import os
 from dataclasses import asdict, dataclass
+from functools import partial
+from typing import Any
 
 from ..checks import (
     check_folder,
@@ -16,14 +18,17 @@ from ..checks import (
     check_processes,
     check_seed,
 )
-from ..observation import check_haptic_scale
-from ..scene.actuation import check_actuation
+from ..config import EnvConfig, option, option_like
+from ..observation import HAPTIC_SCALES, check_haptic_scale
+from ..scene.actuation import ACTUATIONS, check_actuation
 from .curriculum import CurriculumConfig
 from .tear import TearConfig
 from .warmup import WarmupConfig
 
 ALGORITHMS = ("trpo", "ppo")
 RECIPES = ("default", "paper")
+AT_LEAST_ONE = partial(check_int, minimum=1)
+ANY_PROCESSES = partial(check_processes, zero="one per core")  # 0: one per core
 
 
 @dataclass(frozen=True)
@@ -31,47 +36,64 @@ class TrainConfig:
     """One training run: what to train for, how, and where it goes. ``TrainConfig.preset``
     gives the named recipes (docs/training.md)."""
 
-    recipe: str = "default"  # which preset these settings came from (a label for run.json)
-    robot: str = "fixed"
-    algo: str = "trpo"  # the paper's TRPO, or "ppo"
-    ablation: str = "complete"
-    timesteps: int = 1_000_000  # the warm-up's end, then as many steps on the whole reward
+    # which preset these settings came from (a label for run.json)
+    recipe: str = option("default", "paper: TRPO, torques = action x 10 N m, 50k batches.",
+                         choices=RECIPES)  # fmt: skip
+    robot: str = option("fixed", "Robot strategy to train for.")
+    algo: str = option("trpo", "The paper's TRPO, or PPO.", choices=ALGORITHMS)
+    ablation: str = option_like(EnvConfig, "ablation", EnvConfig.ablation)
+    # the warm-up's end, then as many steps on the whole reward
+    timesteps: int = option(1_000_000, "Environment steps.", AT_LEAST_ONE)
     # a budget of learning time in hours, summed over the run's sessions as run.json counts
     # it: training stops where it runs out, short of ``timesteps``, and exports; None: none
-    hours: float | None = None
-    envs: int = 0  # parallel env processes; 0 means one per core
-    envs_per_process: int = 1  # envs each process steps one after another (vec_env.py)
-    seed: int = 0
-    gown_vertices: int = 2000
-    horizon: int = 400
-    samples_per_update: int = 4096  # FACTS: the paper's 50k batches waste samples here
+    hours: float | None = option(None, "Stop and export once the run has learned this long, "
+                                 "its sessions summed (default: no budget).")  # fmt: skip
+    envs: int = option(0, "Parallel env processes (default: one per core).", ANY_PROCESSES)
+    # envs each process steps one after another (vec_env.py)
+    envs_per_process: int = option(1, "Envs each env process steps one after another.",
+                                   AT_LEAST_ONE)  # fmt: skip
+    seed: int = option(0, "Training seed.", check_seed)
+    # the training gown: the scene's resolution for now, a setting of its own
+    gown_vertices: int = option_like(EnvConfig, "gown_vertices", EnvConfig.gown_vertices)
+    horizon: int = option_like(EnvConfig, "horizon", EnvConfig.horizon)
+    # FACTS: the paper's 50k batches waste samples here
+    samples_per_update: int = option(4096, "Samples per update.", AT_LEAST_ONE)
     gamma: float = 0.995
     gae_lambda: float = 0.95
     target_kl: float = 0.01
     # the initial std of the policy's Gaussian actions; with "delta" actions the noise
     # random-walks the PD targets, so SB3's default of 1 carries a near start away, while 0.3
     # explores too little from rest once the curriculum is over (docs/training.md)
-    action_std: float = 0.5
+    action_std: float = option(0.5, "Initial std of the policy's actions.")
     # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
     # pose, so a near start of the curriculum stays near), or torques; the trained policy
     # declares it, and every env that runs the policy takes it from there
-    actuation: str = "delta"
-    haptics: str = "log"  # how the policy reads the forces: "log" scale, or the paper's "newtons"
+    actuation: str = option("delta", "What an action drives: PD targets, moves of them, "
+                            "torques.", choices=ACTUATIONS)  # fmt: skip
+    haptics: str = option("log", "How the policy reads contact forces: log scale, or the "
+                          "paper's newtons.", choices=HAPTIC_SCALES)  # fmt: skip
     # added to each feature's running variance when normalising (VecNormalize's epsilon): a
     # floor of 0.32 on the std, so a feature that barely varied (an untouched sensor, a still
     # joint) is not blown up to the clip at its first change; SB3's default is 1e-8
     norm_epsilon: float = 0.1
     checkpoint_every: int = 20_000  # environment steps between checkpoints
     # near starts that widen (training/curriculum.py); None: every episode starts at rest
-    curriculum: CurriculumConfig | None = CurriculumConfig()
+    curriculum: CurriculumConfig | None = option(
+        CurriculumConfig(), "Start some episodes with the hand near the opening."
+    )
     # r_d left out, then brought in to its full weight (training/warmup.py); None: from step 0
-    warmup: WarmupConfig | None = WarmupConfig()
+    warmup: WarmupConfig | None = option(
+        WarmupConfig(), "Bring the deformation term in after the first steps."
+    )
     # episodes end where the gown's max area ratio passes a limit, once r_d has its full weight
     # (training/tear.py); None: never
-    tear: TearConfig | None = TearConfig()
-    out: str = "runs"
-    policies: str = "policies"
-    name: str = ""  # defaults to ROBOT-ABLATION-ALGO-sSEED
+    tear: TearConfig | None = option(
+        TearConfig(), "End training episodes where the gown's max area ratio passes this."
+    )
+    out: str = option("runs", "Folder of training runs.", check_folder)
+    policies: str = option("policies", "Where models go (a folder dressbench finds humans in).",
+                           check_folder)  # fmt: skip
+    name: str = option("", "Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).", check_name)
 
     def __post_init__(self) -> None:
         if self.algo not in ALGORITHMS:
@@ -98,7 +120,6 @@ class TrainConfig:
         strategy loads (else a ``PluginError``) and passes one reset and one act in a small env,
         the env options are valid, and ``out`` and ``policies`` are folders that exist or can
         be created (else a ``ValueError``)."""
-        from ..config import EnvConfig  # here: importing it loads the physics
         from ..plugins import robot_plugin
         from ..preflight import robot_problem
 
@@ -169,3 +190,25 @@ class TrainConfig:
     def rollout_steps(self) -> int:
         """Steps each env takes per update: the update's samples shared among the envs."""
         return max(self.samples_per_update // self.n_envs, 64)
+
+
+def option_changes(
+    curriculum: bool | None = None,
+    warmup: bool | None = None,
+    tear_limit: float | None = None,
+    no_tear_limit: bool = False,
+    **fields: Any,
+) -> dict[str, Any]:
+    """The ``TrainConfig`` fields that options set, as the command line gives them: a field
+    None keeps the recipe's; ``curriculum`` and ``warmup`` turn those parts on (as configured
+    by default) or off; ``tear_limit`` sets the tear limit, ``no_tear_limit`` takes it away."""
+    if tear_limit is not None and no_tear_limit:
+        raise ValueError("tear_limit and no_tear_limit exclude each other")
+    changes = {key: value for key, value in fields.items() if value is not None}
+    if curriculum is not None:
+        changes["curriculum"] = CurriculumConfig() if curriculum else None
+    if warmup is not None:
+        changes["warmup"] = WarmupConfig() if warmup else None
+    if tear_limit is not None or no_tear_limit:
+        changes["tear"] = None if no_tear_limit else TearConfig(tear_limit)
+    return changes
