@@ -219,7 +219,8 @@ def plugins(check: bool) -> None:
 @_fields(TrainConfig, "robot", "algo", "ablation")
 @_option(TrainConfig, "timesteps", recipe=True)
 @_option(TrainConfig, "hours", type=click.FloatRange(min=0.0, min_open=True))
-@_fields(TrainConfig, "envs", "envs_per_process", "seed", "gown_vertices")
+@_fields(TrainConfig, "envs", "envs_per_process", "seed")
+@_option(TrainConfig, "gown_vertices", recipe=True)
 @_fields(TrainConfig, "out", "policies", "name")
 @click.option("--resume/--fresh", default=True, show_default=True,
               help="Continue from the run's last checkpoint, or start over.")  # fmt: skip
@@ -269,7 +270,10 @@ def train(resume: bool, **options: Any) -> None:
 @_option(TrainConfig, "hours", type=click.FloatRange(min=0.0, min_open=True))
 @_option(TrainConfig, "envs", default=1,
          help="Env processes per run, each a CPU it reserves (0: one per core).")  # fmt: skip
-@_fields(TrainConfig, "gown_vertices", "horizon")
+@_option(TrainConfig, "gown_vertices", recipe=True)
+@_option(TrainConfig, "horizon")
+@_option(EnvConfig, "gown_vertices", "--eval-gown-vertices", "eval_gown_vertices",
+         help="The leaderboard's gown, in vertices.")  # fmt: skip
 @_option(TrainConfig, "samples_per_update", recipe=True, type=click.IntRange(min=1))
 @_option(TrainConfig, "curriculum", "--curriculum/--no-curriculum", recipe=True, type=None)
 @_option(TrainConfig, "haptics", recipe=True)
@@ -280,7 +284,7 @@ def train(resume: bool, **options: Any) -> None:
 @_workers("Evaluation processes")
 @_BACKEND
 def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, address,
-          **options) -> None:  # fmt: skip
+          eval_gown_vertices, **options) -> None:  # fmt: skip
     """Train a grid of human models (robots x ablations x seeds x algorithms), then score them
     in one leaderboard. Each run is a normal run folder: re-running resumes."""
     from .sweep import Sweep
@@ -292,7 +296,7 @@ def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, 
     grid = {"robot": robots, "ablation": ablations, "seed": seeds, "algo": algos}
     config = Sweep({axis: values for axis, values in grid.items() if values},
                    option_changes(**options), episodes=episodes, results=results,
-                   workers=workers or None)  # fmt: skip
+                   workers=workers or None, eval_gown_vertices=eval_gown_vertices)  # fmt: skip
     run_sweep(config, backend=backend, address=address)
     board = Path(results, "leaderboard.md")
     click.echo(f"policies in {options['policies']}, leaderboard in {board}")
@@ -394,3 +398,18 @@ def render(robot: str, human: str, path: str, **episode: int) -> None:
 
     video = render_rollout(robot, human, path, **episode)
     click.echo(f"video written to {video.path}: {video.summary()}")
+
+
+@main.command()
+@click.argument("summaries", nargs=-1, required=True)
+@click.option("--out", default="curves.png", show_default=True,
+              callback=_checked(check_output_file, suffixes=(".png",)),
+              help="A .png, in a folder that exists.")  # fmt: skip
+@click.option("--title", default="learning against time", show_default=True)
+def curves(summaries: tuple[str, ...], out: str, title: str) -> None:
+    """Hand-in and past-the-elbow rates, final progress and max deformation against hours of
+    learning: one curve per learning summary (NAME-progress.csv, as training writes it)."""
+    from .training.summary import write_time_comparison
+
+    runs = {Path(s).name.removesuffix("-progress.csv"): s for s in summaries}
+    click.echo(f"curves of {len(runs)} runs in {write_time_comparison(runs, out, title)}")

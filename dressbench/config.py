@@ -24,10 +24,11 @@ def option(default: Any, help: str, check: Callable[..., Any] | None = None, **m
     return field(default=default, metadata={"help": help, "check": check, **more})
 
 
-def option_like(config: type, name: str, default: Any) -> Any:
-    """The option ``name`` of ``config`` (its help and check) with another ``default``."""
+def option_like(config: type, name: str, default: Any, help: str | None = None) -> Any:
+    """The option ``name`` of ``config`` (its help and check) with another ``default`` (and
+    ``help``, where given)."""
     (same,) = (f for f in fields(config) if f.name == name)
-    return field(default=default, metadata=same.metadata)
+    return field(default=default, metadata={**same.metadata, **({"help": help} if help else {})})
 
 
 @dataclass(frozen=True)

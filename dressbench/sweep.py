@@ -15,15 +15,16 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .checks import check_episodes, check_folder, check_seed
+from .checks import check_episodes, check_folder, check_gown_vertices, check_seed
 from .cluster import Backend, ClusterError
+from .config import EnvConfig
 from .training.config import TrainConfig
 
 if TYPE_CHECKING:
     import pandas as pd
 
 NAMED_AXES = ("robot", "ablation", "algo", "seed")  # already in a run's default name
-ENV_FIELDS = ("gown_vertices", "horizon")  # the leaderboard's env too: one value per sweep
+ENV_FIELDS = ("horizon",)  # the leaderboard's env too: one value per sweep
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,7 @@ class Sweep:
     seed: int = 0  # the evaluation's base seed (each run's own is a grid axis or in ``train``)
     results: str = "results"
     workers: int | None = None  # evaluation processes (local) or tasks at once (ray)
+    eval_gown_vertices: int = EnvConfig.gown_vertices  # the leaderboard's gown, not training's
 
     def __post_init__(self) -> None:
         names = {f.name for f in fields(TrainConfig)}
@@ -56,6 +58,7 @@ class Sweep:
         if varied := [axis for axis in ENV_FIELDS if len(self.grid.get(axis, ())) > 1]:
             raise ValueError(f"{varied[0]} is the leaderboard's env too: give one value")
         check_episodes(self.episodes)
+        check_gown_vertices(self.eval_gown_vertices, "eval_gown_vertices")
         check_seed(self.seed)
         check_folder(self.results, "results")
 
@@ -77,9 +80,11 @@ class Sweep:
         return configs
 
     def env_options(self) -> dict[str, Any]:
-        """The env options the policies are scored with: those they were trained with."""
+        """The env options the policies are scored with: the horizon they were trained with, on
+        the evaluation's gown."""
         chosen = {axis: values[0] for axis, values in self.grid.items()} | dict(self.train)
-        return {axis: chosen.get(axis, getattr(TrainConfig, axis)) for axis in ENV_FIELDS}
+        horizon = {axis: chosen.get(axis, getattr(TrainConfig, axis)) for axis in ENV_FIELDS}
+        return horizon | {"gown_vertices": self.eval_gown_vertices}
 
 
 def sweep(

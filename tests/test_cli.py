@@ -11,7 +11,8 @@ from dressbench.cli import main
 from dressbench.config import EnvConfig
 from dressbench.scene.garment import GownConfig
 from dressbench.scene.world import SceneConfig
-from dressbench.training.config import TrainConfig
+from dressbench.sweep import Sweep
+from dressbench.training.config import TRAINING_GOWN_VERTICES, TrainConfig
 
 
 def test_bench_prints_one_json_object_per_measurement():
@@ -90,7 +91,11 @@ def _default(command: list[str], name: str):
 
 def test_the_defaults_the_command_line_shows_are_the_configs():
     gown = GownConfig.target_vertices
-    assert _default(["train"], "gown_vertices") == TrainConfig.gown_vertices == gown
+    assert TrainConfig.gown_vertices == TRAINING_GOWN_VERTICES < gown  # training's coarser gown
+    assert TrainConfig.preset("fine-gown").gown_vertices == gown == EnvConfig.gown_vertices
+    for command in (["train"], ["sweep"]):  # the recipe's gown, which the help lists
+        assert _default(command, "gown_vertices") is None
+    assert _default(["sweep"], "eval_gown_vertices") == Sweep.eval_gown_vertices == gown
     assert _default(["sweep"], "horizon") == TrainConfig.horizon == EnvConfig.horizon
     for command in (["evaluate"], ["evaluate", "leaderboard"], ["render"]):
         assert _default(command, "gown_vertices") == EnvConfig.gown_vertices
@@ -125,3 +130,33 @@ def test_a_scene_setting_the_resolution_or_device_unlike_the_env_options_is_refu
         EnvConfig(scene=replace(SceneConfig(), device="cuda"))
     assert EnvConfig(gown_vertices=1000, scene=scene).scene_config() == scene
     assert EnvConfig(gown_vertices=600).scene_config().gown.target_vertices == 600
+
+
+def test_train_takes_the_recipes_gown_and_a_given_one_over_it(tmp_path, monkeypatch):
+    from dressbench.training import run
+
+    built = []
+    monkeypatch.setattr(run, "train", lambda config: built.append(config) or tmp_path / "p.json")
+    for flags in (["--recipe", "fine-gown"], ["--recipe", "fine-gown", "--gown-vertices", "600"],
+                  []):  # fmt: skip
+        result = CliRunner().invoke(main, ["train", "--out", str(tmp_path), "--fresh", *flags])
+        assert result.exit_code == 0, result.output
+    assert [config.gown_vertices for config in built] == [2000, 600, TRAINING_GOWN_VERTICES]
+    assert [config.recipe for config in built] == ["fine-gown", "fine-gown", "default"]
+
+
+def test_the_learning_curves_command_draws_summaries_and_refuses_a_file_that_is_not_one(tmp_path):
+    summary = tmp_path / "fixed-default-s0-progress.csv"
+    summary.write_text("time/total_timesteps,time/time_elapsed,rollout/rest_start_arm_progress\n"
+                       "4096,20,0.0\n8192,40,0.1\n")  # fmt: skip
+    out = tmp_path / "curves.png"
+    result = CliRunner().invoke(main, ["curves", str(summary), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert out.read_bytes().startswith(b"\x89PNG") and "1 runs" in result.output
+    for text in ("not,a,summary\n1,2,3\n", "\x00\xff" * 10):
+        bad = tmp_path / "bad-progress.csv"
+        bad.write_text(text, encoding="latin-1")
+        result = CliRunner().invoke(main, ["curves", str(bad), "--out", str(out)])
+        assert result.exit_code == 1 and str(bad) in result.output
+        assert len(result.output.strip().splitlines()) == 1, result.output
+

@@ -137,7 +137,8 @@ def test_a_sweep_on_ray_trains_its_grid_and_scores_it_in_one_leaderboard(
     train = TRAIN_TINY | {"timesteps": timesteps, "out": str(tmp_path / "runs"),
                           "policies": str(policies_here)}  # fmt: skip
     grid = {"robot": ["fixed"], "seed": [0, 1]}
-    config = Sweep(grid, train, episodes=2, results=str(tmp_path / "results"))
+    config = Sweep(grid, train | {"gown_vertices": 400}, episodes=2,
+                   results=str(tmp_path / "results"), eval_gown_vertices=600)  # fmt: skip
     board = sweep(config, backend="ray", progress=False)
 
     names = ["fixed-complete-trpo-s0", "fixed-complete-trpo-s1"]
@@ -147,6 +148,7 @@ def test_a_sweep_on_ray_trains_its_grid_and_scores_it_in_one_leaderboard(
         assert run["result"]["steps"] == timesteps and run["config"]["seed"] == int(name[-1])
     assert sorted(board["human"]) == names and set(board["robot"]) == {"fixed"}
     assert (board["episodes"] == 2).all() and (board["horizon"] == 32).all()
+    assert (board["gown_vertices"] == 600).all()  # scored on the evaluation's gown, not training's
     assert len(pd.read_csv(tmp_path / "results" / "episodes.csv")) == 4
 
 

@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 from ..files import write_csv, write_json, write_png
 
 STEPS = "time/total_timesteps"
+MAX_SUMMARY_BYTES = 50_000_000  # a run of 10M steps logs about 2 MB
 PANELS = (  # column of progress.csv, title, axis label
     ("rollout/ep_rew_mean", "episode return", "mean of the last 100 episodes"),
     ("rollout/final_arm_progress", "final arm progress", "m, mean of recent episodes"),
@@ -183,10 +184,30 @@ def time_figure(tables: Mapping[str, pd.DataFrame], title: str, smooth: int = 5)
     return figure
 
 
+def read_learning_summary(path: str | Path) -> pd.DataFrame:
+    """A learning summary's table (``NAME-progress.csv``), read as untrusted input: a regular
+    file of bounded size whose steps and learning times are numbers; else one ValueError
+    naming the file."""
+    path = Path(path)
+    if path.is_symlink() or not path.is_file():
+        raise ValueError(f"{path}: not a learning summary file (NAME-progress.csv)")
+    if path.stat().st_size > MAX_SUMMARY_BYTES:
+        raise ValueError(f"{path}: larger than a learning summary ({MAX_SUMMARY_BYTES:,} bytes)")
+    try:
+        table = pd.read_csv(path)
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as error:
+        raise ValueError(f"{path}: not a CSV table ({error})") from None
+    for column in (STEPS, "time/time_elapsed"):
+        values = pd.to_numeric(table.get(column), errors="coerce") if column in table else None
+        if values is None or values.isna().any() or values.empty:
+            raise ValueError(f"{path}: no numeric {column} column: is it a NAME-progress.csv?")
+    return table
+
+
 def write_time_comparison(progress: Mapping[str, str | Path], out: str | Path, title: str) -> Path:
     """Draw the learning summaries' tables (``progress``: label -> ``NAME-progress.csv``)
     against hours of learning into the PNG ``out``."""
-    tables = {label: pd.read_csv(path) for label, path in progress.items()}
+    tables = {label: read_learning_summary(path) for label, path in progress.items()}
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_png(out, time_figure(tables, title))
