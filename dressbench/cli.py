@@ -99,6 +99,13 @@ def _backend_options(command: Callable[..., Any]) -> Callable[..., Any]:
     return backend(address(command))
 
 
+_EPISODE_TIMEOUT = click.option(
+    "--episode-timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+    help="Seconds an episode may run before its cell is flagged "
+         "(default: max(60, horizon x gown vertices x 0.1 ms)).",
+)  # fmt: skip
+
+
 @click.group(cls=_Commands)
 @click.version_option(package_name="dressbench")
 def main() -> None:
@@ -485,11 +492,13 @@ def sweep(robots, ablations, seeds, algos, curriculum, episodes, results, worker
               help="Parallel processes (default: one per core).")  # fmt: skip
 @click.option("--gown-vertices", default=2000, show_default=True, callback=_VERTICES)
 @click.option("--out", default="results", show_default=True, callback=_FOLDER)
+@_EPISODE_TIMEOUT
 @_backend_options
 @click.pass_context
 def evaluate(
-    ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out, backend, address
-):
+    ctx: click.Context, robot, human, episodes, seed, workers, gown_vertices, out, episode_timeout,
+    backend, address
+):  # fmt: skip
     """Score a human with a robot strategy over seeded rollouts; see also `leaderboard`."""
     if ctx.invoked_subcommand is not None:
         return
@@ -498,7 +507,8 @@ def evaluate(
     from .evaluation import evaluate as run_evaluation
 
     run_evaluation(robot, human, episodes=episodes, seed=seed, workers=workers or None, out=out,
-                   gown_vertices=gown_vertices, backend=backend, address=address)  # fmt: skip
+                   gown_vertices=gown_vertices, backend=backend, address=address,
+                   episode_timeout=episode_timeout)  # fmt: skip
     click.echo(f"results in {out} (episodes.csv, curves.csv, leaderboard.md, plots)")
 
 
@@ -509,10 +519,12 @@ def evaluate(
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 @click.option("--report", is_flag=True,
               help="Also write OUT/report/index.html (a web page with videos).")  # fmt: skip
+@_EPISODE_TIMEOUT
 @_backend_options
 def leaderboard_command(
-    episodes, seed, workers, gown_vertices, horizon, out, robots, humans, report, backend, address
-):
+    episodes, seed, workers, gown_vertices, horizon, out, robots, humans, report, episode_timeout,
+    backend, address
+):  # fmt: skip
     """Every robot strategy against the humans trained for it and the baselines.
 
     Finished rollouts in OUT are reused, so a leaderboard can be built a few cells at a time.
@@ -523,7 +535,8 @@ def leaderboard_command(
 
     leaderboard(episodes=episodes, seed=seed, workers=workers or None, out=out,
                 robots=robots or None, humans=humans or None, gown_vertices=gown_vertices,
-                horizon=horizon, backend=backend, address=address)  # fmt: skip
+                horizon=horizon, backend=backend, address=address,
+                episode_timeout=episode_timeout)  # fmt: skip
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
     if report:
         from .evaluation.webpage import write_report

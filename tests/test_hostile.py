@@ -1,0 +1,95 @@
+"""A results folder is untrusted input, a name means one policy, and one bad plugin never stops
+a leaderboard.
+
+The hostile plugins are a small package (tests/hostile_plugins/, its own pyproject.toml and
+entry points) installed into a temporary folder on ``sys.path``; episodes are tiny (horizon 3,
+a 300-vertex gown).
+"""
+
+import tomllib
+import warnings
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from fakes import install
+
+import dressbench
+from dressbench.cli import main
+
+HOSTILE = Path(__file__).parent / "hostile_plugins"
+TINY = {"horizon": 3, "gown_vertices": 300, "progress": False}
+FROM = "from hostile-plugins 1.0"
+
+
+@pytest.fixture
+def hostile(site):
+    """The hostile-plugins distribution, installed as pip would leave it (metadata, entry
+    points, module) in a folder on ``sys.path``."""
+    project = tomllib.loads((HOSTILE / "pyproject.toml").read_text())["project"]
+    groups = {f"[{group}]": eps for group, eps in project["entry-points"].items()}
+    install(site, project["name"], project["version"], groups,
+            hostile_plugins=(HOSTILE / "hostile_plugins.py").read_text())  # fmt: skip
+    return site
+
+
+def _messages(caught) -> list[str]:
+    return [str(w.message) for w in caught]
+
+
+# --- one bad plugin never stops a leaderboard ------------------------------------------------
+
+
+def test_a_plugin_raising_in_an_episode_flags_its_cell_and_the_leaderboard_goes_on(
+    hostile, tmp_path
+):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        board = dressbench.leaderboard(
+            episodes=2, workers=1, out=tmp_path, robots=["fixed"],
+            humans=["passive", "crashy", "quitter", "wrong_size"], **TINY,
+        )  # fmt: skip
+    assert list(board["human"]) == ["passive"]
+    lines = _messages(caught)
+    for name, reason in [
+        ("crashy", "raised RuntimeError: boom"),
+        ("quitter", "raised SystemExit: 3"),
+        ("wrong_size", "raised ValueError: human action must have shape (11,), got (10,)"),
+    ]:
+        (line,) = [line for line in lines if f"x {name!r} left out" in line]
+        assert f"human plugin {name!r} {FROM} {reason} in episode 0 (episode seed " in line, line
+    meta = (tmp_path / "run_meta.json").read_text()
+    assert "crashy" in meta and "flagged_cells" in meta
+
+
+def test_an_episode_past_its_time_limit_flags_its_cell(hostile, tmp_path):
+    with pytest.warns(UserWarning, match=r"'sleeper' left out: .* ran past its time limit of 2 s "
+                                         r"\(--episode-timeout\) in episode 0"):  # fmt: skip
+        board = dressbench.leaderboard(
+            episodes=1, workers=1, out=tmp_path, robots=["fixed"], humans=["passive", "sleeper"],
+            episode_timeout=2, **TINY,
+        )  # fmt: skip
+    assert list(board["human"]) == ["passive"]
+
+
+def test_evaluate_of_a_failing_plugin_is_one_line_naming_it(hostile, tmp_path):
+    result = CliRunner().invoke(main, ["evaluate", "--robot", "fixed", "--human", "quitter",
+                                       "--episodes", "1", "--workers", "1", "--gown-vertices",
+                                       "300", "--out", str(tmp_path)])  # fmt: skip
+    assert result.exit_code == 1, result.output
+    errors = [line for line in result.output.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 1 and "Traceback" not in result.output, result.output
+    assert f"human plugin 'quitter' {FROM} raised SystemExit: 3 in episode 0" in errors[0]
+
+
+def test_a_dead_worker_is_replaced_its_task_retried_then_flagged(hostile, tmp_path):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        board = dressbench.leaderboard(
+            episodes=2, workers=2, out=tmp_path, robots=["fixed"],
+            humans=["passive", "vanisher"], **TINY,
+        )  # fmt: skip
+    assert list(board["human"]) == ["passive"] and int(board["episodes"][0]) == 2
+    (line,) = [line for line in _messages(caught) if "'vanisher' left out" in line]
+    assert f"human plugin 'vanisher' {FROM}" in line
+    assert "its worker died (exit code 7) in each of 3 tries in episode" in line
