@@ -93,3 +93,55 @@ def test_a_dead_worker_is_replaced_its_task_retried_then_flagged(hostile, tmp_pa
     (line,) = [line for line in _messages(caught) if "'vanisher' left out" in line]
     assert f"human plugin 'vanisher' {FROM}" in line
     assert "its worker died (exit code 7) in each of 3 tries in episode" in line
+
+
+# --- a results folder is untrusted ------------------------------------------------------------
+
+
+def _archived_cell(tmp_path):
+    """A results folder holding one archived cell (fixed x passive, one tiny episode)."""
+    from dressbench.evaluation import make_cell
+    from dressbench.evaluation.archive import archive_path
+
+    options = {"horizon": 3, "gown_vertices": 300}
+    dressbench.evaluate("fixed", "passive", episodes=1, workers=1, out=tmp_path, **TINY)
+    cell = make_cell("fixed", "passive", **options)
+    return cell, archive_path(tmp_path, cell, 0)
+
+
+def test_a_cell_archive_is_refused_before_decompressing_what_it_cannot_hold(tmp_path, capsys):
+    import numpy as np
+
+    from dressbench.evaluation import archive
+
+    cell, path = _archived_cell(tmp_path)
+    with np.load(path) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["arm_progress"] = np.zeros((1, 20_000_000))  # 160 MB that compress to ~150 kB
+    np.savez_compressed(path, **arrays)
+    assert path.stat().st_size < 1_000_000
+    capsys.readouterr()
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(archive.np, "load", lambda *a, **k: pytest.fail("decompressed"))
+        assert archive.load_archive(tmp_path, cell, 0) == []
+    line = capsys.readouterr().err.strip()
+    assert line.startswith(f"dressbench: ignored {path}: member arm_progress.npy is 160,000,128 "
+                           "bytes uncompressed, more than the "), line  # fmt: skip
+    assert line.endswith("its cell allows (3 steps, at most 17 episodes); its episodes run again")
+
+
+def test_a_cell_archive_with_other_members_or_linked_is_refused(tmp_path, capsys):
+    import zipfile
+
+    from dressbench.evaluation import archive
+
+    cell, path = _archived_cell(tmp_path)
+    with zipfile.ZipFile(path, "a") as extra:
+        extra.writestr("payload.npy", b"x")
+    assert archive.load_archive(tmp_path, cell, 0) == []
+    assert "not a cell archive (members payload.npy)" in capsys.readouterr().err
+    target = tmp_path / "elsewhere.npz"
+    path.rename(target)
+    path.symlink_to(target)
+    assert archive.load_archive(tmp_path, cell, 0) == []
+    assert "not a regular file" in capsys.readouterr().err
