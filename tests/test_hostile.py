@@ -145,3 +145,56 @@ def test_a_cell_archive_with_other_members_or_linked_is_refused(tmp_path, capsys
     path.symlink_to(target)
     assert archive.load_archive(tmp_path, cell, 0) == []
     assert "not a regular file" in capsys.readouterr().err
+
+
+def _results(tmp_path):
+    """A results folder of one tiny cell (fixed x passive)."""
+    out = tmp_path / "results"
+    dressbench.evaluate("fixed", "passive", episodes=1, workers=1, out=out, **TINY)
+    return out
+
+
+def test_the_report_escapes_every_value_and_keeps_its_files_in_report(tmp_path):
+    import pandas as pd
+
+    from dressbench.evaluation.webpage import write_report
+
+    out = _results(tmp_path)
+    board = pd.read_csv(out / "leaderboard.csv")
+    board["human"] = "<script>alert(1)</script>"
+    board["config_id"] = "../../../escaped"
+    board["episodes"] = '1"><script>alert(2)</script>'
+    board.to_csv(out / "leaderboard.csv", index=False)
+    page = write_report(out, videos=True, workers=1, progress=False).read_text()
+    assert "<script>alert" not in page and "&lt;script&gt;alert(1)" in page
+    written = {p for p in tmp_path.rglob("*") if p.is_file()}
+    assert not [p for p in written if "escaped" in p.name and out / "report" not in p.parents]
+
+
+def test_the_report_copies_no_linked_plot(tmp_path):
+    from dressbench.evaluation.webpage import write_report
+
+    out = _results(tmp_path)
+    private = tmp_path / "private.png"
+    private.write_bytes(b"secret")
+    private.chmod(0o600)
+    (out / "leaked.png").symlink_to(private)
+    page = write_report(out, videos=False, progress=False).read_text()
+    assert not (out / "report" / "images" / "leaked.png").exists() and "leaked" not in page
+    assert (out / "report" / "images" / "final_scores.png").is_file()
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "problem"),
+    [
+        ("run_meta.json", '{"seed": 0, "cells": [', "not valid JSON (JSONDecodeError: "),
+        ("run_meta.json", "[" * 100_000 + "]" * 100_000, "not valid JSON (ValueError: JSON nested"),
+        ("leaderboard.csv", "", "not a leaderboard table (EmptyDataError: "),
+    ],
+)
+def test_a_broken_results_file_is_one_line_naming_it(tmp_path, name, content, problem):
+    out = _results(tmp_path)
+    (out / name).write_text(content)
+    result = CliRunner().invoke(main, ["report", str(out), "--no-videos"])
+    assert result.exit_code == 1 and "Traceback" not in result.output, result.output
+    assert result.output.startswith(f"Error: {out / name}: {problem}"), result.output
