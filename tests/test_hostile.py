@@ -6,11 +6,15 @@ entry points) installed into a temporary folder on ``sys.path``; episodes are ti
 a 300-vertex gown).
 """
 
-import tomllib
 import warnings
 from pathlib import Path
 
 import pytest
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10: pytest's own dependency
+    import tomli as tomllib
 from click.testing import CliRunner
 from fakes import install
 
@@ -198,3 +202,39 @@ def test_a_broken_results_file_is_one_line_naming_it(tmp_path, name, content, pr
     result = CliRunner().invoke(main, ["report", str(out), "--no-videos"])
     assert result.exit_code == 1 and "Traceback" not in result.output, result.output
     assert result.output.startswith(f"Error: {out / name}: {problem}"), result.output
+
+
+def test_a_deeply_nested_json_among_the_policies_is_refused_and_the_others_load(
+    tmp_path, monkeypatch
+):
+    from test_reliability import write_policy
+
+    from dressbench import plugins
+
+    folder = tmp_path / "policies"
+    write_policy(folder, "fine")
+    (folder / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    (folder / "deep.safetensors").write_bytes(b"")
+    monkeypatch.setenv("DRESSBENCH_POLICIES", str(folder))
+    plugins.refresh()
+    try:
+        result = CliRunner().invoke(main, ["plugins"])
+    finally:
+        plugins.refresh()
+    assert result.exit_code == 0 and "RecursionError" not in result.output, result.output
+    (deep,) = [line for line in result.output.splitlines() if " deep " in line]
+    assert "deep.json: not valid JSON (JSON nested too deeply)" in deep
+    (fine,) = [line for line in result.output.splitlines() if " fine " in line]
+    assert fine.rstrip().endswith("ok")
+
+
+def test_a_mistyped_policies_folder_is_named(tmp_path, monkeypatch):
+    from dressbench import plugins
+
+    monkeypatch.setenv("DRESSBENCH_POLICIES", str(tmp_path / "polcies"))
+    plugins.refresh()
+    try:
+        with pytest.warns(UserWarning, match=r"DRESSBENCH_POLICIES names .*polcies, which is not"):
+            plugins.human_plugins()
+    finally:
+        plugins.refresh()

@@ -1,5 +1,4 @@
-"""Humans that pass the preflight (one act) and then fail in their episodes, and a robot
-drawing from the global NumPy generator."""
+"""Humans that pass the preflight (one act) and then fail in their episodes."""
 
 import os
 import sys
@@ -55,16 +54,3 @@ class WrongSize(Human):
     def act(self, observation):
         self.acts += 1
         return np.zeros(11 if self.acts == 1 else 10)
-
-
-class Gambler:
-    """A motionless gripper at a start pose drawn from ``np.random`` (the global generator)."""
-
-    api_version = 1
-
-    def reset(self, rng):
-        x = 0.55 + 0.01 * np.random.uniform()
-        return np.array([x, -0.19, 0.45, 0.0, 0.0, 0.0, 1.0])
-
-    def act(self, observation):
-        return np.zeros(3)
