@@ -119,6 +119,11 @@ _BACKEND = _options(
                       "a local Ray instance)."),
 )  # fmt: skip
 _CELLS = _options(_episodes(), _SEED_OPTION, _workers(), _GOWN, _HORIZON)
+_EPISODE_TIMEOUT = click.option(
+    "--episode-timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+    help="Seconds an episode may run before its cell is flagged "
+         "(default: max(60, horizon x gown vertices x 0.1 ms)).",
+)  # fmt: skip
 
 
 @click.group(cls=_Commands)
@@ -307,6 +312,7 @@ def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, 
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
 @_options(_episodes(), _SEED_OPTION, _workers(), _GOWN)
 @click.option("--out", default="results", show_default=True, callback=_FOLDER)
+@_EPISODE_TIMEOUT
 @_BACKEND
 @click.pass_context
 def evaluate(ctx: click.Context, robot, human, out, workers, backend, address, **options):
@@ -329,6 +335,7 @@ def evaluate(ctx: click.Context, robot, human, out, workers, backend, address, *
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 @click.option("--report", is_flag=True,
               help="Also write OUT/report/index.html (a web page with videos).")  # fmt: skip
+@_EPISODE_TIMEOUT
 @_BACKEND
 def leaderboard_command(workers, out, robots, humans, report, **options):
     """Every robot strategy against the humans trained for it and the baselines.

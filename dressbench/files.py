@@ -1,4 +1,5 @@
-"""Atomic file writes: a temp file in the target's folder, flushed, then ``os.replace``.
+"""Atomic file writes: a temp file in the target's folder, flushed, then ``os.replace``; and a
+JSON parse that refuses nesting too deep for the parser (``parse_json``).
 
 A reader (or a resumed run) therefore sees either the previous file or the new one, never a
 half-written one, even if the process dies mid-write. Files get the permissions of the umask
@@ -81,6 +82,15 @@ def jsonable(value: Any) -> Any:
     if hasattr(value, "tolist"):  # numpy arrays and scalars
         return value.tolist()
     return repr(value)
+
+
+def parse_json(text: str | bytes) -> Any:
+    """``json.loads(text)``, but JSON nested deeper than the parser's recursion allows is a
+    ValueError (not a RecursionError), so a caller refusing bad JSON refuses it too."""
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise ValueError("JSON nested too deeply") from None
 
 
 def slug(name: str) -> str:

@@ -12,7 +12,6 @@ torch's per-call overhead dominates, and because loading then never imports torc
 from __future__ import annotations
 
 import hashlib
-import json
 import math
 import os
 import re
@@ -26,6 +25,7 @@ import numpy as np
 import safetensors.numpy
 from safetensors import SafetensorError
 
+from .files import parse_json
 from .observation import HAPTIC_SCALES, scale_haptics
 from .plugins.protocols import HUMAN_ACTION_SIZE
 from .scene.actuation import ACTUATIONS
@@ -219,7 +219,7 @@ def _read_document(json_path: Path) -> dict[str, Any]:
     """The parsed and checked JSON of a policy."""
     text = _read_bytes(json_path, policy_paths(json_path)[0], MAX_JSON_BYTES)
     try:
-        document = json.loads(text)
+        document = parse_json(text)
     except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
         raise _fail(json_path, f"not valid JSON ({exc})") from None
     if not isinstance(document, dict) or document.get("format") != FORMAT:
@@ -390,7 +390,7 @@ def _looks_like_policy(json_path: Path) -> bool:
     if policy_paths(json_path)[0].is_file():
         return True
     try:
-        document = json.loads(_read_bytes(json_path, json_path, MAX_JSON_BYTES))
+        document = parse_json(_read_bytes(json_path, json_path, MAX_JSON_BYTES))
     except ValueError:  # PolicyFileError, JSONDecodeError, UnicodeDecodeError
         return False
     return isinstance(document, dict) and document.get("format") == FORMAT

@@ -162,7 +162,7 @@ def test_nothing_left_to_run_with_two_workers_just_writes_the_summary(tmp_path, 
     def no_pool(*args, **kwargs):
         raise AssertionError("a pool was started with nothing to run")
 
-    monkeypatch.setattr(worker_module, "ProcessPoolExecutor", no_pool)
+    monkeypatch.setattr(worker_module, "_Pool", no_pool)
     # a leaderboard built a cell at a time: this cell is done already
     board = leaderboard(out=tmp_path, robots=["fixed"], humans=["passive"], episodes=2, workers=2,
                         **TINY)  # fmt: skip

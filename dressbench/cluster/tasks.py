@@ -25,10 +25,13 @@ def run_remote(
     limit: int,
     cpus: int = 1,
     describe: Callable[[Item], str] = str,
+    failed: Callable[[Item, str], Result] | None = None,
 ) -> Iterator[tuple[Item, Result]]:
     """``(item, function(item, *args))`` for each item, in the order they finish, each run as a
     Ray task of ``cpus`` CPUs with at most ``limit`` in flight. Ray must be connected
-    (``session.ray_session``). Stopping early cancels the tasks still running."""
+    (``session.ray_session``). Stopping early cancels the tasks still running. Given
+    ``failed``, a task that could not finish even after its retries gives
+    ``(item, failed(item, why))`` and the others go on."""
     import ray
 
     remote = ray.remote(function).options(num_cpus=cpus, max_retries=RETRIES)
@@ -47,7 +50,12 @@ def run_remote(
         while running:
             (ref,), _ = ray.wait(list(running), num_returns=1)
             item = running.pop(ref)
-            result = _result(ray, ref, describe(item))
+            try:
+                result = _result(ray, ref, describe(item))
+            except ClusterError as error:
+                if failed is None:
+                    raise
+                result = failed(item, f"could not finish ({error})")
             submit()
             yield item, result
     finally:

@@ -6,19 +6,24 @@ also written to ``out/cells/<robot>__<human>-<key>-seed<s>.npz``: the cell's ide
 once, every episode's curves and scores as arrays. A later evaluation, on any machine, reuses the
 first n episodes of an archive of the same identity and base seed instead of running them again
 (episode i's seed does not depend on how many episodes there are). Loaded with
-``allow_pickle=False``: an archive holds arrays and strings, never code.
+``allow_pickle=False``: an archive holds arrays and strings, never code. It is untrusted (a results
+folder travels between machines): before anything is decompressed, it must be a regular file
+(no link) holding exactly the expected members, each no larger uncompressed than its cell's
+horizon and the archive's episode count imply (``_size_problem``).
 """
 
 from __future__ import annotations
 
 import io
-import json
+import stat
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from ..files import write_bytes
+from ..checks import MAX_EPISODES
+from ..files import parse_json, write_bytes
 from .cells import Cell
 from .identity import canonical, same
 from .rollouts import EpisodeRecord
@@ -35,6 +40,10 @@ _SCALARS = {
     "episode_return": float,
     "steps": int,
 }
+_CURVES = ("arm_progress", "max_deformation_curve")
+NPY_HEADER = 256  # bytes: at most an .npy member's header (numpy writes 128)
+MAX_IDENTITY = 1 << 20  # bytes of the identity's string array (4 per character)
+MAX_REASON = 1000  # characters of a failure reason
 
 
 def archive_path(out: Path, cell: Cell, seed: int) -> Path:
@@ -67,19 +76,51 @@ def load_archive(out: Path, cell: Cell, seed: int, quiet: bool = False) -> list[
     if not path.exists():
         return []
     try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in data.files}
-        identity = json.loads(str(arrays["identity"]))
-        problem = "" if same(identity, cell.identity) else "it belongs to another setup"
-        if int(arrays["seed"]) != seed:
-            problem = f"its base seed is {int(arrays['seed'])}"
-    except (OSError, ValueError, KeyError) as exc:
+        problem = _size_problem(path, cell.columns["horizon"])
+        if not problem:
+            with np.load(path, allow_pickle=False) as data:
+                arrays = {name: data[name] for name in data.files}
+            identity = parse_json(str(arrays["identity"]))
+            problem = "" if same(identity, cell.identity) else "it belongs to another setup"
+            if int(arrays["seed"]) != seed:
+                problem = f"its base seed is {int(arrays['seed'])}"
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
         problem = f"unreadable ({type(exc).__name__})"
     if problem:
         if not quiet:
             notice(f"ignored {path}: {problem}; its episodes run again")
         return []
     return [_record(cell, arrays, i) for i in range(len(arrays["episode_seed"]))]
+
+
+def _size_problem(path: Path, horizon: int) -> str:
+    """What makes the archive at ``path`` unsafe to decompress ('' if nothing): not a regular
+    file, members other than the expected ones, or a member larger uncompressed than a cell of
+    ``horizon`` steps allows for the episodes its ``episode_seed`` holds (zip headers, read
+    before any member is inflated; a member cannot inflate past its declared size)."""
+    mode = path.lstat().st_mode
+    if not stat.S_ISREG(mode):
+        return "not a regular file (a link or a device)"
+    with zipfile.ZipFile(path) as archive:
+        members = archive.infolist()
+    sizes = {info.filename: info.file_size for info in members}
+    expected = {f"{name}.npy" for name in ("identity", "seed", *_CURVES, *_SCALARS)}
+    if set(sizes) != expected or len(sizes) != len(members):
+        odd = sorted(set(sizes) ^ expected)[:3]
+        return f"not a cell archive (members {', '.join(odd) or 'repeated'})"
+    episodes = max(sizes["episode_seed.npy"] // 8, 1)  # at least the count it holds
+    if episodes > MAX_EPISODES + NPY_HEADER // 8:
+        return f"episode_seed.npy holds {sizes['episode_seed.npy']} bytes, more than a cell's"
+    limits = {"identity": MAX_IDENTITY, "seed": 8, "failure_reason": 4 * MAX_REASON * episodes}
+    limits |= {name: 8 * horizon * episodes for name in _CURVES}
+    for name, size in sizes.items():
+        limit = NPY_HEADER + limits.get(name[: -len(".npy")], 8 * episodes)
+        if size > limit:
+            return (
+                f"member {name} is {size:,} bytes uncompressed, more than the {limit:,} its "
+                f"cell allows ({horizon} steps, at most {episodes} episodes)"
+            )
+    return ""
 
 
 def _record(cell: Cell, arrays: dict[str, np.ndarray], i: int) -> EpisodeRecord:

@@ -253,6 +253,12 @@ def _instances(
     return policies, problems
 
 
+def describe_plugin(noun: str, name: str) -> str:
+    """``"NOUN plugin 'NAME' from ORIGIN"``: a plugin in a message."""
+    records = robot_plugins() if noun == "robot" else human_plugins()
+    return f"{noun} plugin {name!r} from {_origin(records[name])}"
+
+
 def _origin(plugin: Any) -> str:
     """Where a plugin comes from, for messages: ``'package version'``, or the policy file."""
     return plugin.package if plugin.from_policy_file else plugin.origin

@@ -7,34 +7,40 @@ local backend does, so the files are the same, bit for bit (docs/cluster.md).
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 from ..cluster.session import ray_session
 from ..cluster.tasks import run_remote
 from ..cluster.worker import PolicyFolders, require_plugins
 from .rollouts import EpisodeRecord
-from .workers import Task, run_task
+from .workers import Failure, Task, run_task
 
 QUEUED_PER_CPU = 2  # tasks in flight per cluster CPU when no worker count is given
 
 
 def ray_tasks(
-    tasks: Sequence[Task], workers: int | None, address: str | None
-) -> Iterator[tuple[Task, EpisodeRecord]]:
-    """Each task with its record, as they finish, run on Ray at ``address`` (None: a local
-    instance of ``workers`` CPUs), at most ``workers`` at once (None: two per cluster CPU, so a
-    free CPU never waits for this process). No tasks: Ray is not started."""
+    tasks: Sequence[Task],
+    workers: int | None,
+    address: str | None,
+    skip: Callable[[Task], bool] = lambda task: False,
+) -> Iterator[tuple[Task, EpisodeRecord | Failure]]:
+    """Each task with its record or failure, as they finish, run on Ray at ``address`` (None: a
+    local instance of ``workers`` CPUs), at most ``workers`` at once (None: two per cluster CPU,
+    so a free CPU never waits for this process); a task ``skip`` says yes to when its turn
+    comes is not run, and one whose worker died in every try is a ``Failure``. No tasks: Ray is
+    not started."""
     if not tasks:
         return
     with ray_session(address, workers) as ray:
         cpus = int(ray.cluster_resources().get("CPU", 1))
         limit = workers or QUEUED_PER_CPU * max(cpus, 1)
         yield from run_remote(
-            rollout, tasks, PolicyFolders.of_driver(), limit=limit, describe=_describe
-        )
+            rollout, (task for task in tasks if not skip(task)), PolicyFolders.of_driver(),
+            limit=limit, describe=_describe, failed=lambda task, why: Failure(None, why),
+        )  # fmt: skip
 
 
-def rollout(task: Task, folders: PolicyFolders) -> EpisodeRecord:
+def rollout(task: Task, folders: PolicyFolders) -> EpisodeRecord | Failure:
     """One task on a Ray worker: the driver's policy folders, its cell's plugins checked on
     this node, then the episode (``workers.run_task``)."""
     folders.apply()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import replace
@@ -19,14 +20,14 @@ from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
 from .archive import load_archive, save_archive
-from .cells import Cell, checked_cell, leaderboard_cells
+from .cells import Cell, checked_cell, describe_plugin, leaderboard_cells
 from .remote import ray_tasks
 from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
 from .store import cell_folder, load_record, report_earlier_rollouts, save_record
-from .workers import Task, run_tasks
+from .workers import Failure, Task, default_timeout, run_tasks
 
 
 def evaluate(
@@ -41,6 +42,7 @@ def evaluate(
     progress: bool = True,
     backend: str = "local",
     address: str | None = None,
+    episode_timeout: float | None = None,
     **options: Any,
 ) -> pd.DataFrame:
     """Score ``robot`` with ``human`` over seeded episodes; write the results to ``out``.
@@ -52,13 +54,15 @@ def evaluate(
     plugins are first checked in a small env (``cells.plugin_problems``): a ValueError names
     the one that fails and why. ``backend`` "ray" runs the episodes as Ray tasks, on a local
     instance or, given an ``address``, a cluster (docs/cluster.md): the same files, the same
-    numbers.
+    numbers. An episode that fails (its plugin raises, runs past ``episode_timeout`` seconds,
+    default ``workers.default_timeout``, or kills its worker) is a ValueError naming the
+    plugin, its package and the episode's seed.
     """
-    where = check_run(episodes, seed, workers, out, backend, address)
+    where = check_run(episodes, seed, workers, out, backend, address, episode_timeout)
     cell = checked_cell(robot, human, **options)
     episodes_table, _ = evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options,
-        backend=where,
+        backend=where, episode_timeout=episode_timeout,
     )  # fmt: skip
     return episodes_table
 
@@ -75,16 +79,19 @@ def leaderboard(
     progress: bool = True,
     backend: str = "local",
     address: str | None = None,
+    episode_timeout: float | None = None,
     **options: Any,
 ) -> pd.DataFrame:
     """Evaluate every robot strategy against the humans meant for it; write the combined files.
 
     The cells are every ok robot plugin × every ok human plugin trained for it or generic
     (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
-    restrict the names. Returns the leaderboard table (as in leaderboard.csv). ``backend`` and
-    ``address`` are those of ``evaluate``.
+    restrict the names. Returns the leaderboard table (as in leaderboard.csv). ``backend``,
+    ``address`` and ``episode_timeout`` are those of ``evaluate``; a cell whose episode fails is
+    left out with a warning naming the plugin, its package and the episode's seed (run_meta.json
+    lists it), and the others are scored.
     """
-    where = check_run(episodes, seed, workers, out, backend, address)
+    where = check_run(episodes, seed, workers, out, backend, address, episode_timeout)
     cells = leaderboard_cells(robots, humans, **options)
     if not cells:
         raise ValueError(
@@ -92,7 +99,7 @@ def leaderboard(
         )
     _, board = evaluate_cells(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options,
-        backend=where,
+        backend=where, episode_timeout=episode_timeout,
     )  # fmt: skip
     return board
 
@@ -104,11 +111,15 @@ def check_run(
     out: str | os.PathLike,
     backend: str,
     address: str | None,
+    episode_timeout: float | None = None,
 ) -> Backend:
     """Refuse, before anything runs, a count out of range, an ``out`` that is no folder or an
     unknown backend: episodes from 1 to ``MAX_EPISODES``, seed from 0 to ``MAX_SEED``, workers
     None (one per core) or from 1 to ``MAX_PROCESSES``, ``out`` a folder that exists or can be
-    created, ``backend`` and ``address`` as ``Backend`` takes them. Returns the backend."""
+    created, ``backend`` and ``address`` as ``Backend`` takes them, ``episode_timeout`` None or
+    positive. Returns the backend."""
+    if episode_timeout is not None and not episode_timeout > 0:
+        raise ValueError(f"episode_timeout must be positive seconds, got {episode_timeout!r}")
     check_episodes(episodes)
     check_seed(seed)
     if workers is not None:
@@ -129,16 +140,19 @@ def evaluate_cells(
     options: dict[str, Any],
     *,
     backend: Backend,
+    episode_timeout: float | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Run what is missing of ``episodes`` per cell on ``backend``, saving each as it finishes;
-    then summarize.
+    then summarize the cells none of whose episodes failed (the failed ones: a warning each).
 
     Returns the episodes table and the leaderboard table.
     """
     started, clock = datetime.now(timezone.utc), time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     tasks = [
-        Task(cell, seed, episode, success_depth) for cell in cells for episode in range(episodes)
+        Task(cell, seed, episode, success_depth, episode_timeout or _default_timeout(cell))
+        for cell in cells
+        for episode in range(episodes)
     ]
     archived = _archived(out, cells, seed, tasks)
     done = archived | {task: record for task in tasks if task not in archived
@@ -149,17 +163,24 @@ def evaluate_cells(
     unarchived = {t.cell for t in tasks if t not in archived} - {t.cell for t in pending}
     found = {task.cell for task in done}
     report_earlier_rollouts(out, [cell for cell in cells if cell not in found])
+    flagged: dict[Cell, str] = {}  # a failed episode's line, per cell: its others are not run
     if backend.is_ray:  # None: as many at once as the cluster has CPUs for
-        results = ray_tasks(pending, workers, backend.address)
+        results = ray_tasks(pending, workers, backend.address, lambda t: t.cell in flagged)
     else:
         workers = workers or os.cpu_count() or 1
-        results = run_tasks(pending, workers)
+        results = run_tasks(pending, workers, lambda t: t.cell in flagged)
     left = Counter(task.cell for task in pending)  # episodes still to run, per cell
     with tqdm(
         total=len(tasks), initial=len(done), desc=command, unit="episode", disable=not progress
     ) as bar:
         try:
             for task, record in results:  # nothing pending: nothing starts
+                if isinstance(record, Failure):
+                    if task.cell not in flagged:  # its first failure; a cell's others are alike
+                        flagged[task.cell] = _flag(task, record)
+                        warnings.warn(flagged[task.cell], stacklevel=3)
+                    bar.update()
+                    continue
                 save_record(out, task, record)  # each record at once: a stopped run resumes
                 done[task] = record
                 left[task.cell] -= 1
@@ -171,6 +192,10 @@ def evaluate_cells(
             write_csv(out / "episodes.csv", _episodes_table(tasks, done))
             raise
     elapsed = time.perf_counter() - clock
+    if len(flagged) == len(cells):
+        raise ValueError("; ".join(flagged.values()))
+    cells = [cell for cell in cells if cell not in flagged]
+    tasks = [task for task in tasks if task.cell not in flagged]
     for cell in cells:
         if cell in unarchived:
             _archive(out, cell, seed, episodes, success_depth, done)
@@ -193,6 +218,8 @@ def evaluate_cells(
         "seed": seed,
         "episode_seeds": "numpy.random.SeedSequence(seed).spawn(n)[episode].generate_state(1)[0]",
         "workers": workers,
+        "episode_timeout": episode_timeout or "default: max(60, horizon x gown_vertices x 1e-4) s",
+        "flagged_cells": list(flagged.values()),
         "backend": backend.name,
         "address": backend.address,
         "options": options,
@@ -213,6 +240,24 @@ def evaluate_cells(
     }
     write_summary(out, curves, board, meta, success_depth)
     return table, board
+
+
+def _default_timeout(cell: Cell) -> float:
+    """The default time limit of ``cell``'s episodes (``workers.default_timeout``)."""
+    return default_timeout(cell.columns["horizon"], cell.columns["gown_vertices"])
+
+
+def _flag(task: Task, failure: Failure) -> str:
+    """The one line saying which cell failed, whose fault, where it comes from, and when."""
+    cell = task.cell
+    if failure.plugin is None:
+        who = f"{describe_plugin('robot', cell.robot)} with {describe_plugin('human', cell.human)}"
+    else:
+        who = describe_plugin(failure.plugin, getattr(cell, failure.plugin))
+    return (
+        f"cell {cell.robot!r} x {cell.human!r} left out: {who} {failure.reason} in episode "
+        f"{task.episode} (episode seed {task.episode_seed})"
+    )
 
 
 def _archived(

@@ -19,7 +19,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..files import slug, write_text
+from ..files import parse_json, slug, write_text
 from .cells import Cell
 from .identity import difference, same
 from .rollouts import EpisodeRecord
@@ -51,7 +51,7 @@ def load_record(out: Path, task: Task) -> EpisodeRecord | None:
     not yet run, or its file discarded (with a notice) as unreadable or of another identity."""
     path = record_path(out, task)
     try:
-        data = json.loads(path.read_bytes())
+        data = parse_json(path.read_bytes())
     except FileNotFoundError:
         return None
     except (OSError, ValueError) as exc:  # ValueError: JSONDecodeError, UnicodeDecodeError
@@ -159,7 +159,7 @@ def _first_identity(folder: Path) -> Any:
     """The stored identity of the first readable record in ``folder``, or None."""
     for path in sorted(folder.glob("seed*-episode*.json")):
         try:
-            data = json.loads(path.read_bytes())
+            data = parse_json(path.read_bytes())
         except (OSError, ValueError):
             continue
         if isinstance(data, dict) and isinstance(data.get("identity"), dict):

@@ -10,11 +10,9 @@ skipped with a note on the page. See docs/evaluation.md, "The report".
 
 from __future__ import annotations
 
-import html
 import json
 import multiprocessing
 import os
-import shutil
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -24,12 +22,17 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..files import slug, write_text
+from ..files import parse_json, slug, write_bytes, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .workers import exit_with_parent
 
 REPORT_FOLDER = "report"
+# the leaderboard.csv columns the page cannot do without (older tables lack the stage rates)
+_NEEDED = ("robot", "human", "ablation", "episodes", "horizon", "gown_vertices", "device", "seed",
+           "config_id", "sim_failures", *(f"{m}_{s}" for m in ("final_arm_progress",
+           "max_deformation") for s in ("mean", "ci_low", "ci_high")))  # fmt: skip
+MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, metadata, plot)
 VIDEO_SUFFIX = ".mp4"
 STAGES = (("hand_in", "hand in"), ("success", "past the elbow (success)"), ("dressed", "dressed"))
 
@@ -49,26 +52,58 @@ def write_report(
     ``progress`` prints one line per video rendered.
     """
     results = Path(results)
-    for name in ("leaderboard.csv", "run_meta.json"):
-        if not (results / name).is_file():
-            raise ValueError(
-                f"{results}: no {name} (not a results folder; run dressbench evaluate first)"
-            )
-    board = pd.read_csv(results / "leaderboard.csv")
-    meta = json.loads((results / "run_meta.json").read_text())
+    board, meta = _read_results(results)
     folder = results / REPORT_FOLDER
-    (folder / "images").mkdir(parents=True, exist_ok=True)
+    for sub in (folder, folder / "images", *([folder / "videos"] if videos else [])):
+        if sub.is_symlink():
+            raise ValueError(f"{sub}: a link; the report writes only into a folder of its own")
+        sub.mkdir(exist_ok=True)
     images = []
     for png in sorted(results.glob("*.png")):  # curves_<robot>.png, final_scores.png
-        shutil.copyfile(png, folder / "images" / png.name)
+        if png.is_symlink() or not png.is_file() or png.stat().st_size > MAX_READ_BYTES:
+            continue  # not ours: a link could widen a private file's mode or reach anywhere
+        write_bytes(folder / "images" / png.name, png.read_bytes())
         images.append(f"images/{png.name}")
     clips = {}
     if videos:
-        (folder / "videos").mkdir(exist_ok=True)
         clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
     write_text(page, report_html(board, meta, images, clips))
     return page
+
+
+def _read_results(results: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """``leaderboard.csv`` and ``run_meta.json`` of a results folder, each a regular file of at
+    most ``MAX_READ_BYTES``; a ValueError naming the file when one is missing or unreadable."""
+    for name in ("leaderboard.csv", "run_meta.json"):
+        path = results / name
+        if not path.is_file() or path.is_symlink():
+            raise ValueError(
+                f"{results}: no {name} (not a results folder; run dressbench evaluate first)"
+            )
+        if path.stat().st_size > MAX_READ_BYTES:
+            raise ValueError(f"{path}: more than {MAX_READ_BYTES:,} bytes; not a results file")
+    path = results / "leaderboard.csv"
+    try:
+        board = pd.read_csv(path)
+    except (ValueError, UnicodeDecodeError) as error:  # EmptyDataError, ParserError among them
+        raise ValueError(f"{path}: not a leaderboard table ({_one_line(error)})") from None
+    missing = [c for c in _NEEDED if c not in board.columns]
+    if missing:
+        raise ValueError(f"{path}: not a leaderboard table (no column {', '.join(missing[:3])})")
+    path = results / "run_meta.json"
+    try:
+        meta = parse_json(path.read_bytes())
+    except ValueError as error:  # JSONDecodeError, UnicodeDecodeError, too deep
+        raise ValueError(f"{path}: not valid JSON ({_one_line(error)})") from None
+    if not isinstance(meta, dict):
+        raise ValueError(f"{path}: not a run's metadata (a JSON {type(meta).__name__})")
+    return board, meta
+
+
+def _one_line(error: BaseException) -> str:
+    lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+    return f"{type(error).__name__}: {lines[0]}" if lines else type(error).__name__
 
 
 def _cell_key(row: Any) -> tuple[str, str, str]:
@@ -78,9 +113,11 @@ def _cell_key(row: Any) -> tuple[str, str, str]:
 def _rollout_folder(row: Any, meta: dict[str, Any]) -> str:
     """The cell's rollout folder name (it holds the cell's identity key), or a stand-in."""
     for cell, folder in zip(meta.get("cells", []), meta.get("rollouts", []), strict=False):
-        if (cell["robot"], cell["human"], cell["config_id"]) == _cell_key(row):
-            return Path(folder).name
-    return f"{slug(str(row.robot))}__{slug(str(row.human))}-{row.config_id}"
+        if not isinstance(cell, dict) or not isinstance(folder, str):
+            continue
+        if (cell.get("robot"), cell.get("human"), cell.get("config_id")) == _cell_key(row):
+            return slug(Path(folder).name)
+    return f"{slug(str(row.robot))}__{slug(str(row.human))}-{slug(str(row.config_id))}"
 
 
 @dataclass(frozen=True)
@@ -99,7 +136,7 @@ def _video_task(folder: Path, row: Any, meta: dict[str, Any]) -> VideoTask:
     from ..render import RENDER_VERSION
 
     seed = episode_seed(int(meta.get("seed", row.seed)), 0)
-    name = f"{_rollout_folder(row, meta)}-seed{seed}-r{RENDER_VERSION}{VIDEO_SUFFIX}"
+    name = slug(f"{_rollout_folder(row, meta)}-seed{seed}-r{RENDER_VERSION}") + VIDEO_SUFFIX
     options = (("horizon", int(row.horizon)), ("gown_vertices", int(row.gown_vertices)),
                ("device", str(row.device)))  # fmt: skip
     return VideoTask(str(row.robot), str(row.human), seed, options, folder, f"videos/{name}")
@@ -197,21 +234,21 @@ def _number(value: Any, digits: int) -> str:
     return "" if pd.isna(value) else f"{value:.{digits}f}"
 
 
-def _metric_cell(row: Any, metric: str, digits: int) -> str:
+def _metric_cell(row: Any, metric: str, digits: int) -> dict[str, Any]:
     mean = getattr(row, f"{metric}_mean")
     std = getattr(row, f"{metric}_std", float("nan"))
     low, high = getattr(row, f"{metric}_ci_low"), getattr(row, f"{metric}_ci_high")
     spread = "" if pd.isna(std) else f" ± {_number(std, digits)}"
     text = f"{_number(mean, digits)}{spread} [{_number(low, digits)}, {_number(high, digits)}]"
-    return f'<td data-value="{mean}">{html.escape(text)}</td>'
+    return {"value": mean, "text": text}
 
 
-def _rate_cell(row: Any, stage: str) -> str:
+def _rate_cell(row: Any, stage: str) -> dict[str, Any]:
     rate = getattr(row, f"{stage}_rate", None)
     if rate is None or pd.isna(rate):
-        return '<td data-value="-1">n/a</td>'
+        return {"value": -1, "text": "n/a"}
     low, high = getattr(row, f"{stage}_ci_low"), getattr(row, f"{stage}_ci_high")
-    return f'<td data-value="{rate}">{rate:.0%} [{low:.0%}, {high:.0%}]</td>'
+    return {"value": rate, "text": f"{rate:.0%} [{low:.0%}, {high:.0%}]"}
 
 
 def _anchor(key: tuple[str, str, str]) -> str:
@@ -224,68 +261,49 @@ def report_html(
     images: list[str],
     clips: dict[tuple[str, str, str], tuple[str | None, str]],
 ) -> str:
-    """The whole page as one string (no external resource but the images and videos beside it)."""
-    e = html.escape
+    """The whole page as one string (no external resource but the images and videos beside it);
+    every value is escaped by the template engine (values come from files of a results folder)."""
+    import jinja2
+
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
     header = ["robot", "human", "ablation", "episodes", "final arm progress (m)",
               "max deformation", *(label for _, label in STAGES), "sim failures",
               "video"]  # fmt: skip
     numeric = {3, 4, 5, 6, 7, 8, 9}
-    head = "".join(
-        f'<th data-type="{"number" if i in numeric else "text"}" title="click to sort">{e(h)}</th>'
-        for i, h in enumerate(header)
-    )
     rows = []
     for row in board.itertuples():
         key = _cell_key(row)
         clip = clips.get(key)
-        video = f'<a href="#{_anchor(key)}">watch</a>' if clip and clip[0] else "none"
-        cells = [
-            f"<td>{e(str(row.robot))}</td>",
-            f"<td>{e(str(row.human))}</td>",
-            f"<td>{e(str(row.ablation))}</td>",
-            f'<td data-value="{row.episodes}">{row.episodes}</td>',
-            _metric_cell(row, "final_arm_progress", 3),
-            _metric_cell(row, "max_deformation", 2),
-            *(_rate_cell(row, stage) for stage, _ in STAGES),
-            f'<td data-value="{row.sim_failures}">{row.sim_failures}</td>',
-            f"<td>{video}</td>",
-        ]
-        rows.append(f'<tr class="cell">{"".join(cells)}</tr>')
+        rows.append({
+            "text": [str(row.robot), str(row.human), str(row.ablation)],
+            "numbers": [
+                {"value": row.episodes, "text": row.episodes},
+                _metric_cell(row, "final_arm_progress", 3),
+                _metric_cell(row, "max_deformation", 2),
+                *(_rate_cell(row, stage) for stage, _ in STAGES),
+                {"value": row.sim_failures, "text": row.sim_failures},
+            ],
+            "video": _anchor(key) if clip and clip[0] else None,
+        })  # fmt: skip
     stages = stage_definitions(depth)
-    definitions = "".join(
-        f"<dt>{e(label)}</dt><dd>{e(stages[stage])}.</dd>" for stage, label in STAGES
-    )
-    figures = "".join(
-        f'<figure><img src="{e(src)}" alt="{e(Path(src).stem)}">'
-        f"<figcaption>{e(Path(src).name)}</figcaption></figure>"
-        for src in images
-    )
-    videos = []
-    for key, (src, note) in clips.items():
-        title = f"{key[0]} / {key[1]}"
-        if src:
-            poster = Path(src).with_suffix(".png").as_posix()
-            body = (
-                f'<video controls muted loop playsinline preload="metadata" src="{e(src)}" '
-                f'poster="{e(poster)}"></video><figcaption>{e(title)}: {e(note)}</figcaption>'
-            )
-        else:
-            body = f'<p class="note">{e(title)}: {e(note)}</p>'
-        videos.append(f'<figure class="video" id="{_anchor(key)}">{body}</figure>')
-    videos_html = "".join(videos) or "<p>No videos (written with --no-videos).</p>"
-    return PAGE.format(
+    videos = [
+        {"anchor": _anchor(key), "title": f"{key[0]} / {key[1]}", "src": src, "note": note,
+         "poster": Path(src).with_suffix(".png").as_posix() if src else None}
+        for key, (src, note) in clips.items()
+    ]  # fmt: skip
+    page = jinja2.Environment(autoescape=True).from_string(PAGE)
+    return page.render(
         title="dressbench report",
-        settings=e(_settings(board)),
-        head=head,
-        rows="".join(rows),
-        definitions=definitions,
-        interval=e(str(meta.get("confidence_interval", ""))),
-        figures=figures or "<p>No plots in the results folder.</p>",
-        videos=videos_html,
-        meta=_meta_table(meta),
-        configs=e(json.dumps(meta.get("configs", {}), indent=2, sort_keys=True)),
-        script=SORT_SCRIPT,
+        settings=_settings(board),
+        header=[(h, "number" if i in numeric else "text") for i, h in enumerate(header)],
+        rows=rows,
+        definitions=[(label, stages[stage]) for stage, label in STAGES],
+        interval=str(meta.get("confidence_interval", "")),
+        images=[(src, Path(src).stem, Path(src).name) for src in images],
+        videos=videos,
+        meta=_meta_items(meta),
+        configs=json.dumps(meta.get("configs", {}), indent=2, sort_keys=True),
+        script=jinja2.filters.Markup(SORT_SCRIPT),  # our own code, not a value
     )
 
 
@@ -298,9 +316,9 @@ def _settings(board: pd.DataFrame) -> str:
     )
 
 
-def _meta_table(meta: dict[str, Any]) -> str:
-    e = html.escape
+def _meta_items(meta: dict[str, Any]) -> list[tuple[str, str]]:
     versions = meta.get("versions", {})
+    versions = versions if isinstance(versions, dict) else {}
     items = [
         ("git commit", meta.get("git_commit") or "unknown (not a git checkout)"),
         ("versions", ", ".join(f"{k} {v}" for k, v in versions.items() if v)),
@@ -313,7 +331,7 @@ def _meta_table(meta: dict[str, Any]) -> str:
         ("workers", meta.get("workers")),
         ("options", json.dumps(meta.get("options", {}), sort_keys=True)),
     ]
-    return "".join(f"<tr><th>{e(k)}</th><td>{e(str(v))}</td></tr>" for k, v in items)
+    return [(k, str(v)) for k, v in items]
 
 
 SORT_SCRIPT = """
@@ -341,50 +359,66 @@ PAGE = """<!doctype html>
 <head>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
-<title>{title}</title>
+<title>{{ title }}</title>
 <style>
-body {{ font: 15px/1.45 system-ui, sans-serif; margin: 1.5em auto; max-width: 1400px;
-       padding: 0 1em; color: #222; }}
-table {{ border-collapse: collapse; margin: 0.5em 0 1em; }}
-th, td {{ border-bottom: 1px solid #ddd; padding: 0.3em 0.6em; text-align: left; }}
-.scroll {{ overflow-x: auto; }}
-#leaderboard {{ font-size: 0.85em; }}
-#leaderboard td {{ white-space: nowrap; }}
-#leaderboard th {{ cursor: pointer; background: #f2f4f8; user-select: none; }}
-#leaderboard th[data-order=asc]::after {{ content: " \\25B2"; }}
-#leaderboard th[data-order=desc]::after {{ content: " \\25BC"; }}
-#leaderboard td[data-value] {{ text-align: right; font-variant-numeric: tabular-nums;
-                              white-space: nowrap; }}
-figure {{ display: inline-block; margin: 0.5em; vertical-align: top; }}
-figure img {{ max-width: 560px; border: 1px solid #ddd; }}
-figure.video video {{ width: 560px; border: 1px solid #ddd; }}
-figcaption, .note {{ font-size: 0.85em; color: #555; max-width: 560px; }}
-dt {{ font-weight: 600; }}
-pre {{ background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }}
+body { font: 15px/1.45 system-ui, sans-serif; margin: 1.5em auto; max-width: 1400px;
+       padding: 0 1em; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1em; }
+th, td { border-bottom: 1px solid #ddd; padding: 0.3em 0.6em; text-align: left; }
+.scroll { overflow-x: auto; }
+#leaderboard { font-size: 0.85em; }
+#leaderboard td { white-space: nowrap; }
+#leaderboard th { cursor: pointer; background: #f2f4f8; user-select: none; }
+#leaderboard th[data-order=asc]::after { content: " \\25B2"; }
+#leaderboard th[data-order=desc]::after { content: " \\25BC"; }
+#leaderboard td[data-value] { text-align: right; font-variant-numeric: tabular-nums;
+                              white-space: nowrap; }
+figure { display: inline-block; margin: 0.5em; vertical-align: top; }
+figure img { max-width: 560px; border: 1px solid #ddd; }
+figure.video video { width: 560px; border: 1px solid #ddd; }
+figcaption, .note { font-size: 0.85em; color: #555; max-width: 560px; }
+dt { font-weight: 600; }
+pre { background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }
 </style>
 </head>
 <body>
-<h1>{title}</h1>
-<p>Settings: {settings}. Click a column's header to sort by it.</p>
+<h1>{{ title }}</h1>
+<p>Settings: {{ settings }}. Click a column's header to sort by it.</p>
 <h2>Leaderboard</h2>
 <div class="scroll">
-<table id="leaderboard"><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>
+<table id="leaderboard"><thead><tr>
+{%- for label, kind in header -%}
+<th data-type="{{ kind }}" title="click to sort">{{ label }}</th>
+{%- endfor -%}
+</tr></thead><tbody>
+{%- for row in rows %}<tr class="cell">
+{%- for text in row.text %}<td>{{ text }}</td>{% endfor %}
+{%- for cell in row.numbers %}<td data-value="{{ cell.value }}">{{ cell.text }}</td>{% endfor -%}
+<td>{% if row.video %}<a href="#{{ row.video }}">watch</a>{% else %}none{% endif %}</td></tr>
+{%- endfor %}</tbody></table>
 </div>
 <p>Each cell is a robot strategy x a human model over seeded rollouts: mean ± sample std and,
-in brackets, the confidence interval of the mean ({interval}); rates carry their 95% Wilson
+in brackets, the confidence interval of the mean ({{ interval }}); rates carry their 95% Wilson
 interval. Arm progress is the arm's depth in the sleeve (m); max deformation is the largest
 triangle area ratio (stretched / rest) of the episode.</p>
 <h2>What success means</h2>
-<dl>{definitions}</dl>
+<dl>{% for label, text in definitions %}<dt>{{ label }}</dt><dd>{{ text }}.</dd>{% endfor %}</dl>
 <h2>Curves and scores</h2>
-{figures}
+{% for src, alt, name in images -%}
+<figure><img src="{{ src }}" alt="{{ alt }}"><figcaption>{{ name }}</figcaption></figure>
+{%- else %}<p>No plots in the results folder.</p>{% endfor %}
 <h2>Videos</h2>
 <p>One seeded rollout per cell (the cell's first episode), rendered once and cached.</p>
-{videos}
+{% for v in videos -%}
+<figure class="video" id="{{ v.anchor }}">
+{%- if v.src %}<video controls muted loop playsinline preload="metadata" src="{{ v.src }}"
+ poster="{{ v.poster }}"></video><figcaption>{{ v.title }}: {{ v.note }}</figcaption>
+{%- else %}<p class="note">{{ v.title }}: {{ v.note }}</p>{% endif %}</figure>
+{%- else %}<p>No videos (written with --no-videos).</p>{% endfor %}
 <h2>Run</h2>
-<table id="meta">{meta}</table>
-<details><summary>environment configurations</summary><pre>{configs}</pre></details>
-<script>{script}</script>
+<table id="meta">{% for k, v in meta %}<tr><th>{{ k }}</th><td>{{ v }}</td></tr>{% endfor %}</table>
+<details><summary>environment configurations</summary><pre>{{ configs }}</pre></details>
+<script>{{ script }}</script>
 </body>
 </html>
 """

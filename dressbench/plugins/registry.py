@@ -168,6 +168,14 @@ def _policy_file_entries(group: str) -> list[_Entry]:
 
     entries = []
     for folder in policy_folders():
+        if os.environ.get("DRESSBENCH_POLICIES") and not folder.is_dir():
+            import warnings
+
+            warnings.warn(
+                f"DRESSBENCH_POLICIES names {folder}, which is not a folder: no policy is "
+                "read from it",
+                stacklevel=2,
+            )
         for path in list_policies(folder):
             factory = functools.partial(load_policy, path)
             entries.append(
