@@ -25,6 +25,7 @@ from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
+from .strategies import write_strategies
 from .store import cell_folder, load_record, report_earlier_rollouts, save_record
 from .workers import Task, run_tasks
 
@@ -211,6 +212,7 @@ def evaluate_cells(
         "versions": versions(),
         "git_commit": git_commit(),
     }
+    write_strategies(out, table, seed)  # before the summary, whose README lists them
     write_summary(out, curves, board, meta, success_depth)
     return table, board
 

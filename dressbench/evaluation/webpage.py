@@ -27,9 +27,11 @@ import pandas as pd
 from ..files import slug, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
+from .strategies import STRATEGY_CAPTION, score_text
 from .workers import exit_with_parent
 
 REPORT_FOLDER = "report"
+STRATEGY_FIGURE = "strategies.png"
 VIDEO_SUFFIX = ".mp4"
 STAGES = (("hand_in", "hand in"), ("success", "past the elbow (success)"), ("dressed", "dressed"))
 
@@ -61,14 +63,47 @@ def write_report(
     images = []
     for png in sorted(results.glob("*.png")):  # curves_<robot>.png, final_scores.png
         shutil.copyfile(png, folder / "images" / png.name)
-        images.append(f"images/{png.name}")
+        if png.name != STRATEGY_FIGURE:  # shown with the strategy table
+            images.append(f"images/{png.name}")
     clips = {}
     if videos:
         (folder / "videos").mkdir(exist_ok=True)
         clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
-    write_text(page, report_html(board, meta, images, clips))
+    write_text(page, report_html(board, meta, images, clips, strategies_html(results)))
     return page
+
+
+def strategies_html(results: Path) -> str:
+    """The strategy table (``strategies.csv``) and its figure, as the page shows them first;
+    a line saying why there is none."""
+    e = html.escape
+    path = results / "strategies.csv"
+    table = pd.read_csv(path, dtype={"note": str}).fillna({"note": ""}) if path.is_file() else None
+    if table is None or table.empty:
+        return "<p>No strategy table: no human trained for a strategy in these results.</p>"
+    rows = [
+        "<tr>" + "".join(f"<td>{e(str(value))}</td>" for value in (
+            r.rank, r.robot, r.recipe, r.ablation, r.seeds, r.episodes,
+            score_text(r, "final_arm_progress", "mean", "{:.3f}"),
+            score_text(r, "max_deformation", "mean", "{:.2f}"),
+            *(score_text(r, stage, "rate", "{:.0%}") for stage, _ in STAGES), r.note)) + "</tr>"
+        for r in table.itertuples()
+    ]  # fmt: skip
+    header = ["rank", "robot", "recipe", "ablation", "seeds", "episodes",
+              "final arm progress (m)", "max deformation", *(label for _, label in STAGES),
+              "note"]  # fmt: skip
+    figure = (f'<figure><img src="images/{STRATEGY_FIGURE}" alt="strategies">'
+              f"<figcaption>{STRATEGY_FIGURE}</figcaption></figure>"
+              if (results / STRATEGY_FIGURE).is_file() else "")  # fmt: skip
+    return (
+        '<div class="scroll"><table id="strategies"><thead><tr>'
+        + "".join(f"<th>{e(h)}</th>" for h in header)
+        + f"</tr></thead><tbody>{''.join(rows)}</tbody></table></div>"
+        + f"<p>{e(STRATEGY_CAPTION)} The pairwise probabilities of improvement are in "
+        "improvement.md.</p>"
+        + figure
+    )
 
 
 def _cell_key(row: Any) -> tuple[str, str, str]:
@@ -223,8 +258,10 @@ def report_html(
     meta: dict[str, Any],
     images: list[str],
     clips: dict[tuple[str, str, str], tuple[str | None, str]],
+    strategies: str = "",
 ) -> str:
-    """The whole page as one string (no external resource but the images and videos beside it)."""
+    """The whole page as one string (no external resource but the images and videos beside it);
+    ``strategies`` is the strategy section's HTML (``strategies_html``), shown first."""
     e = html.escape
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
     header = ["robot", "human", "ablation", "episodes", "final arm progress (m)",
@@ -277,6 +314,7 @@ def report_html(
     return PAGE.format(
         title="dressbench report",
         settings=e(_settings(board)),
+        strategies=strategies,
         head=head,
         rows="".join(rows),
         definitions=definitions,
@@ -366,6 +404,8 @@ pre {{ background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }}
 <body>
 <h1>{title}</h1>
 <p>Settings: {settings}. Click a column's header to sort by it.</p>
+<h2>Strategies</h2>
+{strategies}
 <h2>Leaderboard</h2>
 <div class="scroll">
 <table id="leaderboard"><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>
