@@ -62,9 +62,7 @@ def percentile_interval(
     return float(low), float(high)
 
 
-def improvement(
-    a: np.ndarray, a_draws: Draws, b: np.ndarray, b_draws: Draws
-) -> np.ndarray:
+def improvement(a: np.ndarray, a_draws: Draws, b: np.ndarray, b_draws: Draws) -> np.ndarray:
     """P[a draw of ``a`` exceeds one of ``b``], ties counting half, per resample (row).
 
     ``a`` and ``b`` are the two samples' episodes laid end to end; each row of the draws weighs

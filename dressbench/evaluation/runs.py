@@ -25,8 +25,8 @@ from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
-from .strategies import write_strategies
 from .store import cell_folder, load_record, report_earlier_rollouts, save_record
+from .strategies import write_strategies
 from .workers import Task, run_tasks
 
 

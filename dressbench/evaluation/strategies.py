@@ -144,9 +144,9 @@ def improvement_table(
         low, high = percentile_interval(improvement(values[0], draws[0], values[1], draws[1]))
         if estimate < 0.5:
             (a, b), (estimate, low, high) = (b, a), (1.0 - estimate, 1.0 - high, 1.0 - low)
-        rows.append({"robot": a[0], "versus": b[0], **dict(zip(COMPARED_COLUMNS, a[1:], strict=True)),
-                     "probability": estimate, "ci_low": low, "ci_high": high,
-                     "separated": low > 0.5})  # fmt: skip
+        compared = dict(zip(COMPARED_COLUMNS, a[1:], strict=True))
+        rows.append({"robot": a[0], "versus": b[0], **compared, "probability": estimate,
+                     "ci_low": low, "ci_high": high, "separated": low > 0.5})  # fmt: skip
     return pd.DataFrame(rows, columns=IMPROVEMENT_COLUMNS)
 
 

@@ -101,8 +101,7 @@ def strategies_html(results: Path) -> str:
         + "".join(f"<th>{e(h)}</th>" for h in header)
         + f"</tr></thead><tbody>{''.join(rows)}</tbody></table></div>"
         + f"<p>{e(STRATEGY_CAPTION)} The pairwise probabilities of improvement are in "
-        "improvement.md.</p>"
-        + figure
+        "improvement.md.</p>" + figure
     )
 
 
