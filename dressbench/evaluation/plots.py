@@ -97,7 +97,7 @@ def role_curves_figure(
 
 def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
     """The paper's Fig. 6: final arm progress and max deformation of each of its policies, bars
-    at the pooled mean with 95% interval whiskers, the deformation threshold drawn."""
+    at the mean over seeds with 95% interval whiskers, the deformation threshold drawn."""
     figure = Figure(figsize=(10, 4.4), layout="constrained")
     measured = roles[roles["episodes"] > 0]
     positions = list(range(len(measured)))
@@ -116,7 +116,7 @@ def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
         if metric == "max_deformation":
             axes.axhline(limit, color="0.3", linestyle="--", linewidth=1, label="threshold")
             axes.legend(fontsize="small")
-    figure.suptitle("the paper's policies: final scores (mean, 95% CI; seeds pooled)")
+    figure.suptitle("the paper's policies: final scores (mean over seeds, two-level 95% CI)")
     return figure
 
 

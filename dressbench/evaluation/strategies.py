@@ -14,7 +14,7 @@ docs/evaluation.md, "A strategy's score".
 from __future__ import annotations
 
 import zlib
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from itertools import combinations
 from pathlib import Path
 from typing import Any
@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..files import write_csv, write_png, write_text
-from .bootstrap import improvement, observed, percentile_interval, two_level_draws
+from .bootstrap import Draws, improvement, observed, percentile_interval, two_level_draws
 from .groups import TrainedHuman, trained_humans
 from .plots import strategies_figure
 from .schema import (
@@ -87,23 +87,31 @@ def strategy_table(
             "episodes": sum(counts),
             "note": ONE_SEED if len(seeds) == 1 else "",
         }
-        for score in SCORES:
-            values = np.concatenate([part[score].to_numpy(dtype=float) for part in seeds])
-            means = np.array([part[score].to_numpy(dtype=float).mean() for part in seeds])
-            centre = "rate" if score in STAGE_COLUMNS else "mean"
-            low, high = percentile_interval(draws.means(values), CONFIDENCE)
-            row |= {
-                f"{score}_{centre}": means.mean(),
-                f"{score}_ci_low": low,
-                f"{score}_ci_high": high,
-                f"{score}_seed_std": means.std(ddof=1) if len(means) > 1 else np.nan,
-            }
-        rows.append(row)
+        rows.append(row | over_seeds(seeds, draws))
     table = pd.DataFrame(rows, columns=STRATEGY_COLUMNS)
     table["rank"] = ranks(table)
     return table.sort_values([*COMPARED_COLUMNS, "rank", f"{RANKED_BY}_mean"],
                              ascending=[True] * len(COMPARED_COLUMNS) + [True, False],
                              ignore_index=True)  # fmt: skip
+
+
+def over_seeds(seeds: Sequence[pd.DataFrame], draws: Draws) -> dict[str, float]:
+    """Each score of ``SCORES`` over seeds (one episodes frame each): the mean of the seeds'
+    means (``_mean``, a stage's ``_rate``), the interval of the ``draws`` (``_ci_low``,
+    ``_ci_high``) and the std of the seeds' means (``_seed_std``; NaN for one seed)."""
+    found = {}
+    for score in SCORES:
+        values = np.concatenate([part[score].to_numpy(dtype=float) for part in seeds])
+        means = np.array([part[score].to_numpy(dtype=float).mean() for part in seeds])
+        centre = "rate" if score in STAGE_COLUMNS else "mean"
+        low, high = percentile_interval(draws.means(values), CONFIDENCE)
+        found |= {
+            f"{score}_{centre}": means.mean(),
+            f"{score}_ci_low": low,
+            f"{score}_ci_high": high,
+            f"{score}_seed_std": means.std(ddof=1) if len(means) > 1 else np.nan,
+        }
+    return found
 
 
 def ranks(table: pd.DataFrame) -> pd.Series:
