@@ -159,4 +159,3 @@ def test_the_learning_curves_command_draws_summaries_and_refuses_a_file_that_is_
         result = CliRunner().invoke(main, ["curves", str(bad), "--out", str(out)])
         assert result.exit_code == 1 and str(bad) in result.output
         assert len(result.output.strip().splitlines()) == 1, result.output
-

@@ -11,14 +11,17 @@ import re
 import shutil
 import subprocess
 
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 
 from dressbench.cli import main
 from dressbench.evaluation import leaderboard
+from dressbench.evaluation.strategies import write_strategies
 from dressbench.evaluation.webpage import write_report
 
 HUMANS = ["passive", "scripted"]
+TRAINED = ["fixed-default-s0", "fixed-default-s1"]
 
 
 @pytest.fixture(scope="module")
@@ -70,6 +73,10 @@ addEventListener('load', function () {
       '#leaderboard tbody tr')).map(function (tr) { return +tr.cells[5].dataset.value; });
     var out = {errors: __errors, rows: column(0).length, up: up, down: down,
       deformation: deformation,
+      headings: Array.from(document.querySelectorAll('h2')).map(function (h) {
+        return h.textContent; }),
+      tables: Array.from(document.querySelectorAll('table')).map(function (t) { return t.id; }),
+      strategies: document.querySelectorAll('#strategies tbody tr').length,
       images: Array.from(document.images).map(function (i) {
         return [i.getAttribute('src'), i.naturalWidth]; }),
       posters: posters.map(function (i) { return [i.getAttribute('src'), i.naturalWidth]; }),
@@ -112,6 +119,23 @@ def test_the_report_loads_in_a_browser_with_every_row_image_and_video(results, t
     assert len(seen["videos"]) == len(HUMANS)
     assert all(width > 0 and error is None for _, width, error in seen["videos"])
     assert len(seen["posters"]) == len(HUMANS) and all(w > 0 for _, w in seen["posters"])
+    assert seen["headings"][:2] == ["Strategies", "Leaderboard"]  # none trained: a line says so
+    assert seen["strategies"] == 0
+
+
+def test_the_report_shows_the_strategy_table_and_its_figure_first(results, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
+    episodes = pd.read_csv(copy / "episodes.csv")  # two seeds of one recipe, say
+    episodes["human"] = episodes["human"].map(dict(zip(HUMANS, TRAINED, strict=True)))
+    write_strategies(copy, episodes)
+    seen = browse(write_report(copy, videos=False, progress=False), tmp_path)
+    assert seen["errors"] == []
+    assert seen["tables"][:2] == ["strategies", "leaderboard"]
+    assert seen["strategies"] == 1  # fixed with its two humans
+    source, width = seen["images"][0]
+    assert source == "images/strategies.png" and width > 0
+    assert [src for src, _ in seen["images"]].count(source) == 1
 
 
 def test_the_report_is_self_contained_and_videos_are_cached(results):

@@ -3,6 +3,7 @@
 import json
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -21,6 +22,7 @@ from dressbench.evaluation.reproduction import (
     documented_results,
     paper_humans,
     reproduce,
+    role_table,
     write_doc_results,
 )
 from dressbench.metrics import deformation_limit
@@ -81,6 +83,21 @@ def test_a_claim_whose_policy_was_not_trained_is_not_measured():
     missing = role(float("nan"), float("nan"), episodes=0)
     found = verdicts(role(0.5, 1.4, 0.7), missing, role(0.05, 1.3), missing, missing)
     assert found == [HOLDS, UNMEASURED, HOLDS, UNMEASURED, UNMEASURED]
+
+
+def test_a_roles_interval_spans_what_its_seeds_give_not_only_their_rollouts():
+    rng = np.random.default_rng(0)
+    progress = {"fixed-default-s0": 0.2, "fixed-default-s1": 0.4, "fixed-default-s2": 0.3}
+    episodes = pd.DataFrame(
+        [{"robot": "fixed", "human": human, "final_arm_progress": value, "max_deformation": 1.5,
+          "hand_in": True, "success": value > 0.3, "dressed": False}
+         for human, mean in progress.items() for value in rng.normal(mean, 0.05, 100)]
+    )  # fmt: skip
+    roles = role_table(episodes, {ROLES[0]: list(progress)})
+    row = roles.iloc[0]
+    assert row["episodes"] == 300 and row["final_arm_progress_seed_std"] == pytest.approx(0.1, 0.1)
+    assert row["final_arm_progress_ci_low"] < 0.23 and row["final_arm_progress_ci_high"] > 0.37
+    assert roles.iloc[1:]["episodes"].eq(0).all() and roles.iloc[1:]["success_rate"].isna().all()
 
 
 @pytest.fixture(scope="module")

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     )
     from .runs import evaluate, leaderboard
     from .statistics import bootstrap_ci, curve_table, leaderboard_table
+    from .strategies import improvement_table, strategy_table
 
 _MODULES = {
     "Cell": "cells",
@@ -42,6 +43,8 @@ _MODULES = {
     "bootstrap_ci": "statistics",
     "curve_table": "statistics",
     "leaderboard_table": "statistics",
+    "improvement_table": "strategies",
+    "strategy_table": "strategies",
 }
 __all__ = [
     "Cell",
@@ -52,12 +55,14 @@ __all__ = [
     "curve_table",
     "episode_seed",
     "evaluate",
+    "improvement_table",
     "is_success",
     "leaderboard",
     "leaderboard_cells",
     "leaderboard_table",
     "make_cell",
     "run_episode",
+    "strategy_table",
     "success_definition",
 ]
 

@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 
 from ..plugins.protocols import ROBOT_DT
 from .rollouts import SUCCESS_DEPTH
+from .schema import STRATEGY_KEY
 
 
 def curves_figure(curves: pd.DataFrame, robot: str, success_depth: float = SUCCESS_DEPTH) -> Figure:
@@ -96,7 +97,7 @@ def role_curves_figure(
 
 def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
     """The paper's Fig. 6: final arm progress and max deformation of each of its policies, bars
-    at the pooled mean with 95% interval whiskers, the deformation threshold drawn."""
+    at the mean over seeds with 95% interval whiskers, the deformation threshold drawn."""
     figure = Figure(figsize=(10, 4.4), layout="constrained")
     measured = roles[roles["episodes"] > 0]
     positions = list(range(len(measured)))
@@ -115,7 +116,7 @@ def role_bars_figure(roles: pd.DataFrame, limit: float) -> Figure:
         if metric == "max_deformation":
             axes.axhline(limit, color="0.3", linestyle="--", linewidth=1, label="threshold")
             axes.legend(fontsize="small")
-    figure.suptitle("the paper's policies: final scores (mean, 95% CI; seeds pooled)")
+    figure.suptitle("the paper's policies: final scores (mean over seeds, two-level 95% CI)")
     return figure
 
 
@@ -134,4 +135,33 @@ def cross_play_figure(cross: pd.DataFrame) -> Figure:
     axes.set(xlabel="robot strategy evaluated with", ylabel="human (trained for its strategy)")
     figure.colorbar(image, ax=axes, label="mean final arm progress (m)")
     figure.suptitle("cross-play: each human on each strategy")
+    return figure
+
+
+def strategies_figure(table: pd.DataFrame, seeds: pd.DataFrame) -> Figure:
+    """Each strategy row's final arm progress and max deformation: the mean over seeds with its
+    95% interval (two-level bootstrap), and each seed's mean as a dot beside it."""
+    figure = Figure(figsize=(max(7.0, 1.4 * len(table) + 4.0), 5.6), layout="constrained")
+    labels = [f"{r.robot} ({r.recipe}, {r.ablation}; {r.seeds} seed{'s' * (r.seeds > 1)})"
+              for r in table.itertuples()]  # fmt: skip
+    positions = np.arange(len(table))
+    rows = seeds.merge(table[STRATEGY_KEY].assign(position=positions), on=STRATEGY_KEY)
+    for axes, metric, title in zip(
+        figure.subplots(1, 2),
+        ("final_arm_progress", "max_deformation"),
+        ("final arm progress (m)", "max deformation (area ratio)"),
+        strict=True,
+    ):
+        mean = table[f"{metric}_mean"].to_numpy()
+        whiskers = [mean - table[f"{metric}_ci_low"], table[f"{metric}_ci_high"] - mean]
+        axes.errorbar(positions, mean, yerr=whiskers, fmt="s", color="C0", capsize=5,
+                      label="mean over seeds, 95% CI")  # fmt: skip
+        axes.scatter(rows["position"] + 0.18, rows[metric], s=18, color="C1", zorder=3,
+                     label="a seed's mean")  # fmt: skip
+        axes.set_xticks(positions, labels, fontsize="small", rotation=30, ha="right")
+        axes.set_xlim(-0.6, len(table) - 0.4)
+        axes.set_title(title)
+        axes.grid(axis="y", alpha=0.3)
+    axes.legend(fontsize="small")
+    figure.suptitle("strategies: scores over the humans trained for them (seeds, then rollouts)")
     return figure

@@ -19,6 +19,12 @@ _WRITTEN = ("Written by dressbench from the files in this folder (`dressbench.ev
 _FILES = {
     "leaderboard.md": "the leaderboard table, with every number defined in its caption",
     "leaderboard.csv": "the same table, every column (means, std, 95% intervals, stage rates)",
+    "strategies.md": "the strategy table: each robot strategy over the humans trained for it "
+    "(seeds, then rollouts), 95% two-level bootstrap intervals, ranks",
+    "strategies.csv": "the same table, every column (the seeds' std among them)",
+    "improvement.md": "P[a rollout of one strategy goes deeper than one of another], per pair",
+    "improvement.csv": "the same, every column",
+    "strategies.png": "each strategy's scores with their intervals, and each seed's mean",
     "episodes.csv": "one row per rollout: its seed, final arm progress, max deformation, stages",
     "curves.csv": "mean and std of arm progress and deformation at every policy step, per cell",
     "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",

@@ -3,11 +3,10 @@ verdict on each read off the confidence intervals; plus the cross-play of every 
 against every built-in strategy.
 
 ``reproduce`` evaluates the cells, then writes beside the usual result files: ``roles.csv`` /
-``roles.md`` (the pooled numbers of each of the paper's policies, seeds pooled, with their
-spread across seeds), ``claims.csv`` / ``claims.md`` (each claim, its verdict and why),
-``cross_play.csv``,
-and the figures ``fig5_fixed_ablations.png``, ``fig6_final_scores.png``,
-``fig7_linear_strategies.png`` and ``cross_play.png``.
+``roles.md`` (each of the paper's policies over its humans' seeds: two-level bootstrap
+intervals and the spread across seeds), ``claims.csv`` / ``claims.md`` (each claim, its
+verdict and why), ``cross_play.csv``, and the figures ``fig5_fixed_ablations.png``,
+``fig6_final_scores.png``, ``fig7_linear_strategies.png`` and ``cross_play.png``.
 """
 
 from __future__ import annotations
@@ -24,10 +23,12 @@ import pandas as pd
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
 from ..plugins import human_plugins, load_human
+from .bootstrap import two_level_draws
 from .cells import checked_cell
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
-from .statistics import bootstrap_ci, wilson_ci
+from .statistics import RESAMPLES
+from .strategies import over_seeds
 
 STRATEGIES = ("fixed", "front_linear", "side_linear")  # the paper's three robot strategies
 
@@ -175,12 +176,14 @@ def _lines(humans: Mapping[Role, Sequence[str]], roles: Iterable[Role]) -> list[
 def role_table(
     episodes: pd.DataFrame, humans: Mapping[Role, Sequence[str]], seed: int = 0
 ) -> pd.DataFrame:
-    """Per role: its humans' episodes on its robot pooled (mean, bootstrap CI; stage rates with
-    Wilson intervals) and the std of the humans' means (the spread across seeds)."""
+    """Per role: its humans (one per training seed) on its robot, each score the mean of the
+    seeds' means with its two-level bootstrap interval (``over_seeds``, as the strategy table)
+    and the std of the seeds' means; a role without episodes has none."""
     rows = []
     for role in ROLES:
         names = list(humans.get(role, ()))
         mine = episodes[(episodes["robot"] == role.robot) & episodes["human"].isin(names)]
+        seeds = [part for _, part in mine.groupby("human", sort=True)]
         row: dict[str, Any] = {
             "role": role.name,
             "robot": role.robot,
@@ -188,21 +191,10 @@ def role_table(
             "humans": " ".join(names),
             "episodes": len(mine),
         }
-        for metric in ("final_arm_progress", "max_deformation"):
-            values = mine[metric].astype(float)
-            low, high = bootstrap_ci(values, seed)
-            means = mine.groupby("human")[metric].mean()
-            row |= {
-                f"{metric}_mean": values.mean() if len(values) else np.nan,
-                f"{metric}_ci_low": low,
-                f"{metric}_ci_high": high,
-                f"{metric}_seed_std": means.std() if len(means) > 1 else np.nan,
-            }
-        for stage in ("hand_in", "success"):
-            reached = int(mine[stage].astype(bool).sum())
-            row[f"{stage}_rate"] = reached / len(mine) if len(mine) else np.nan
-            row[f"{stage}_ci_low"], row[f"{stage}_ci_high"] = wilson_ci(reached, len(mine))
-        rows.append(row)
+        if seeds:
+            rng = np.random.default_rng([seed, ROLES.index(role)])
+            row |= over_seeds(seeds, two_level_draws([len(p) for p in seeds], RESAMPLES, rng))
+        rows.append({column: row.get(column, np.nan) for column in ROLE_COLUMNS})
     return pd.DataFrame(rows, columns=ROLE_COLUMNS)
 
 
@@ -292,7 +284,7 @@ def _completes(rows: Sequence[Any], limit: float) -> tuple[str, str]:
         [
             (
                 row.success_ci_low >= 0.5,
-                f"past the elbow, Wilson low {row.success_ci_low:.0%} >= 50%",
+                f"past the elbow, CI low {row.success_ci_low:.0%} >= 50%",
             ),
             _low_deformation(row, limit),
         ]
@@ -366,7 +358,7 @@ def claims_markdown(claims: pd.DataFrame, limit: float) -> str:
 
 
 def roles_markdown(roles: pd.DataFrame) -> str:
-    """The roles table in Markdown: each policy's pooled means with 95% intervals, the spread of
+    """The roles table in Markdown: each policy's means over seeds with 95% intervals, the spread of
     its seeds' means where it has several, and its stage rates."""
     lines = [
         "| policy | humans | episodes | final arm progress (m) | max deformation "

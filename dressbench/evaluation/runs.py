@@ -27,6 +27,7 @@ from .rollouts import SUCCESS_DEPTH, EpisodeRecord
 from .schema import EPISODE_COLUMNS
 from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
 from .store import cell_folder, load_record, report_earlier_rollouts, save_record
+from .strategies import write_strategies
 from .workers import Failure, Task, default_timeout, run_tasks
 
 
@@ -238,6 +239,7 @@ def evaluate_cells(
         "versions": versions(),
         "git_commit": git_commit(),
     }
+    write_strategies(out, table, seed)  # before the summary, whose README lists them
     write_summary(out, curves, board, meta, success_depth)
     return table, board
 

@@ -53,3 +53,40 @@ LEADERBOARD_COLUMNS = [
     *_rate("dressed"),
     "sim_failures",
 ]
+
+# What a row of the strategy table is: a robot strategy, the group of humans trained for it
+# (groups.py: the recipe and ablation they were trained with), the env settings and base seed.
+STRATEGY_KEY = ["robot", "recipe", *KEY_COLUMNS[2:]]
+# The rows that compete for ranks and are compared pairwise: the same key but the robot.
+COMPARED_COLUMNS = STRATEGY_KEY[1:]
+# A strategy's scores: the means, then the stages' rates, each over seeds.
+STRATEGY_MEANS = ["final_arm_progress", "max_deformation"]
+
+
+def _over_seeds(name: str, centre: str) -> list[str]:
+    return [f"{name}_{stat}" for stat in (centre, "ci_low", "ci_high", "seed_std")]
+
+
+STRATEGY_COLUMNS = [
+    *STRATEGY_KEY,
+    "rank",
+    "seeds",
+    "training_seeds",
+    "humans",
+    "episodes",
+    *(column for metric in STRATEGY_MEANS for column in _over_seeds(metric, "mean")),
+    *(column for stage in STAGE_COLUMNS for column in _over_seeds(stage, "rate")),
+    "note",
+]
+
+# One row per pair of compared strategies: P[a rollout of ``robot`` goes deeper than one of
+# ``versus``], the pair ordered so that it is at least 1/2.
+IMPROVEMENT_COLUMNS = [
+    "robot",
+    "versus",
+    *COMPARED_COLUMNS,
+    "probability",
+    "ci_low",
+    "ci_high",
+    "separated",
+]

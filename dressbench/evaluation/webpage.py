@@ -25,6 +25,7 @@ import pandas as pd
 from ..files import parse_json, slug, write_bytes, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
+from .strategies import STRATEGY_CAPTION, score_text
 from .workers import exit_with_parent
 
 REPORT_FOLDER = "report"
@@ -33,6 +34,7 @@ _NEEDED = ("robot", "human", "ablation", "episodes", "horizon", "gown_vertices",
            "config_id", "sim_failures", *(f"{m}_{s}" for m in ("final_arm_progress",
            "max_deformation") for s in ("mean", "ci_low", "ci_high")))  # fmt: skip
 MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, metadata, plot)
+STRATEGY_FIGURE = "strategies.png"
 VIDEO_SUFFIX = ".mp4"
 STAGES = (("hand_in", "hand in"), ("success", "past the elbow (success)"), ("dressed", "dressed"))
 
@@ -63,12 +65,13 @@ def write_report(
         if png.is_symlink() or not png.is_file() or png.stat().st_size > MAX_READ_BYTES:
             continue  # not ours: a link could widen a private file's mode or reach anywhere
         write_bytes(folder / "images" / png.name, png.read_bytes())
-        images.append(f"images/{png.name}")
+        if png.name != STRATEGY_FIGURE:  # shown with the strategy table
+            images.append(f"images/{png.name}")
     clips = {}
     if videos:
         clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
-    write_text(page, report_html(board, meta, images, clips))
+    write_text(page, report_html(board, meta, images, clips, strategy_section(results)))
     return page
 
 
@@ -104,6 +107,35 @@ def _read_results(results: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
 def _one_line(error: BaseException) -> str:
     lines = [line.strip() for line in str(error).splitlines() if line.strip()]
     return f"{type(error).__name__}: {lines[0]}" if lines else type(error).__name__
+
+
+def strategy_section(results: Path) -> dict[str, Any] | None:
+    """The strategy table (``strategies.csv``, read as untrusted input) as the page shows it
+    first: its header, its rows as text and its figure; None where there is no table."""
+    path = results / "strategies.csv"
+    if not path.is_file() or path.is_symlink():
+        return None
+    if path.stat().st_size > MAX_READ_BYTES:
+        raise ValueError(f"{path}: more than {MAX_READ_BYTES:,} bytes; not a results file")
+    try:
+        table = pd.read_csv(path, dtype={"note": str}).fillna({"note": ""})
+        rows = [
+            [str(value) for value in (
+                r.rank, r.robot, r.recipe, r.ablation, r.seeds, r.episodes,
+                score_text(r, "final_arm_progress", "mean", "{:.3f}"),
+                score_text(r, "max_deformation", "mean", "{:.2f}"),
+                *(score_text(r, stage, "rate", "{:.0%}") for stage, _ in STAGES), r.note)]
+            for r in table.itertuples()
+        ]  # fmt: skip
+    except (ValueError, UnicodeDecodeError, AttributeError) as error:
+        raise ValueError(f"{path}: not a strategy table ({_one_line(error)})") from None
+    if not rows:
+        return None
+    header = ["rank", "robot", "recipe", "ablation", "seeds", "episodes",
+              "final arm progress (m)", "max deformation", *(label for _, label in STAGES),
+              "note"]  # fmt: skip
+    figure = STRATEGY_FIGURE if (results / STRATEGY_FIGURE).is_file() else None
+    return {"header": header, "rows": rows, "caption": STRATEGY_CAPTION, "figure": figure}
 
 
 def _cell_key(row: Any) -> tuple[str, str, str]:
@@ -260,9 +292,11 @@ def report_html(
     meta: dict[str, Any],
     images: list[str],
     clips: dict[tuple[str, str, str], tuple[str | None, str]],
+    strategies: dict[str, Any] | None = None,
 ) -> str:
     """The whole page as one string (no external resource but the images and videos beside it);
-    every value is escaped by the template engine (values come from files of a results folder)."""
+    every value is escaped by the template engine (values come from files of a results folder);
+    ``strategies`` is the strategy section (``strategy_section``), shown first."""
     import jinja2
 
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
@@ -295,6 +329,7 @@ def report_html(
     return page.render(
         title="dressbench report",
         settings=_settings(board),
+        strategies=strategies,
         header=[(h, "number" if i in numeric else "text") for i, h in enumerate(header)],
         rows=rows,
         definitions=[(label, stages[stage]) for stage, label in STAGES],
@@ -384,6 +419,21 @@ pre { background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }
 <body>
 <h1>{{ title }}</h1>
 <p>Settings: {{ settings }}. Click a column's header to sort by it.</p>
+<h2>Strategies</h2>
+{% if strategies -%}
+<div class="scroll"><table id="strategies"><thead><tr>
+{%- for label in strategies.header %}<th>{{ label }}</th>{% endfor -%}
+</tr></thead><tbody>
+{%- for row in strategies.rows %}<tr>{% for value in row %}<td>{{ value }}</td>{% endfor %}</tr>
+{%- endfor %}</tbody></table></div>
+<p>{{ strategies.caption }} The pairwise probabilities of improvement are in improvement.md.</p>
+{%- if strategies.figure %}
+<figure><img src="images/{{ strategies.figure }}" alt="strategies">
+<figcaption>{{ strategies.figure }}</figcaption></figure>
+{%- endif %}
+{%- else -%}
+<p>No strategy table: no human trained for a strategy in these results.</p>
+{%- endif %}
 <h2>Leaderboard</h2>
 <div class="scroll">
 <table id="leaderboard"><thead><tr>

@@ -1,0 +1,84 @@
+"""Which trained humans are seeds of one training: a human's group (robot, recipe, ablation)."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..plugins import human_plugins
+from ..policy_file import PolicyFileError, load_policy
+
+
+@dataclass(frozen=True)
+class TrainedHuman:
+    """A trained human as the strategy table counts it: its group and its training seed."""
+
+    robot: str  # the strategy it was trained for
+    recipe: str
+    ablation: str
+    seed: int
+
+    @property
+    def group(self) -> tuple[str, str, str]:
+        """Humans of one group differ only by their training seed."""
+        return self.robot, self.recipe, self.ablation
+
+
+def human_group(
+    name: str, robot: str, ablation: str, metadata: Mapping[str, Any] | None = None
+) -> TrainedHuman | None:
+    """The group and seed of the human ``name``; None for a human that is no seed of a training
+    (a baseline such as ``passive``, or a name that says nothing of a seed).
+
+    ``metadata`` is its policy file's (``TrainedPolicy.metadata``); without it (a name no longer
+    installed) ``robot`` and ``ablation`` are the episodes table's. From the metadata: ``robot``
+    and ``ablation``; the seed is its ``seed``, else its run ``config``'s. The recipe, and a seed
+    the metadata lacks, come from the name, spelled ROBOT[-ABLATION]-RECIPE-sSEED[-SUFFIXES]
+    (``fixed-default-s1``: recipe ``default``; a sweep's ``fixed-complete-trpo-s0-timesteps1000``:
+    ``trpo-timesteps1000``). The name rather than the config's ``recipe``, which names only the
+    preset and whose settings change between versions: the older humans
+    ``fixed-complete-trpo-delta-curriculum-s*`` record ``default`` too, yet form their own group,
+    ``trpo-delta-curriculum``. A name not of that form takes the config's recipe.
+    """
+    config = (metadata or {}).get("config") or {}
+    if metadata:
+        robot, ablation = metadata["robot"], metadata["ablation"]
+    if robot is None:  # trained for any strategy: no strategy's seed
+        return None
+    spelled = _NAME.fullmatch(_strip(_strip(name, robot), ablation))
+    seed = (metadata or {}).get("seed", config.get("seed"))
+    if seed is None and spelled:
+        seed = int(spelled["seed"])
+    recipe = spelled["recipe"] + (spelled["suffixes"] or "") if spelled else config.get("recipe")
+    if seed is None or recipe is None:
+        return None
+    return TrainedHuman(robot, recipe, ablation, int(seed))
+
+
+_NAME = re.compile(r"(?P<recipe>.+?)-s(?P<seed>\d+)(?P<suffixes>-.+)?")
+
+
+def _strip(name: str, prefix: str) -> str:
+    """``name`` without a leading ``prefix-``."""
+    return name.removeprefix(f"{prefix}-")
+
+
+def trained_humans(humans: Iterable[tuple[str, str, str]]) -> dict[str, TrainedHuman]:
+    """The group of each ``(name, robot, ablation)`` (an episodes table's) that is a seed of a
+    training: from its policy file when one is installed under that name, else from the name."""
+    plugins = human_plugins()
+    found = {}
+    for name, robot, ablation in dict.fromkeys(humans):
+        plugin = plugins.get(name)
+        metadata = None
+        if plugin is not None and plugin.ok and plugin.from_policy_file:
+            try:
+                metadata = load_policy(plugin.value).metadata
+            except PolicyFileError:  # changed since listed: the name still tells
+                metadata = None
+        human = human_group(name, robot, ablation, metadata)
+        if human is not None:
+            found[name] = human
+    return found
