@@ -1,19 +1,24 @@
 """Speed of the physics: the cloth alone and the whole scene step, at several resolutions, and
-beside PyBullet's soft-body cloth on the same gown (``compare_pybullet``, docs/benchmark.md)."""
+beside PyBullet's soft-body cloth on the same gown (``compare_pybullet``, docs/benchmark.md).
+
+``dressbench bench`` is ``BenchOptions`` (its options), ``bench_rows`` (the timings; with the
+training run of ``--train``: ``dressbench.training.bench.bench_rows``) and ``bench_lines``."""
 
 from __future__ import annotations
 
+import json
 import math
 import tempfile
 import time
-from dataclasses import replace
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .checks import check_device, check_gown_vertices, check_int
-from .config import SceneOptions
+from .config import ANY_PROCESSES, AT_LEAST_ONE, SceneOptions, option, option_like
 from .observation import human_observation
 from .scene.body import N_ACTIONS
 from .scene.clock import POLICY_DT
@@ -23,6 +28,90 @@ from .scene.world import Scene, SceneConfig
 from .state import measure
 
 COMPARE_VERTICES = 4000  # the gown timed beside PyBullet's cloth when none is given
+COMPARE_WITH = ("pybullet",)  # what --compare can time beside the env step
+TRAIN_STEPS = 8192  # --train's run: two of the default recipe's updates (4,096 samples each)
+Rows = tuple[list[dict], list[str]]  # timing rows, and the lines that read them
+
+
+@dataclass(frozen=True)
+class BenchOptions:
+    """What ``dressbench bench`` times and how it prints it (the command's options)."""
+
+    vertices: tuple[int, ...] = option((), "Gown resolutions (repeatable).", check_gown_vertices)
+    steps: int = option(200, "Policy steps timed per row.", AT_LEAST_ONE)
+    repeats: int = option(3, "Timed runs; the fastest counts.", AT_LEAST_ONE)
+    quick: bool = option(False, "Only the default resolution, 100 steps.")
+    device: str = option_like(SceneOptions, "device", SceneOptions.device)
+    compare: str | None = option(
+        None,
+        f"Instead: PyBullet's cloth on the same gown (default {COMPARE_VERTICES:,} vertices) "
+        "beside the env step, in simulated seconds per wall second.",
+        choices=COMPARE_WITH,
+    )
+    pybullet_self_collision: bool = option(
+        True,
+        "PyBullet's cloth-cloth collisions (Assistive Gym's setting: on; dressbench's cloth has "
+        "none).",
+    )
+    train: bool = option(False, "Instead: a short training run (the default recipe, one env "
+                         "process per core, on the CPU) beside the env step.")  # fmt: skip
+    train_steps: int = option(TRAIN_STEPS, "Environment steps of the --train run.", AT_LEAST_ONE)
+    train_envs: int = option(0, "Env processes of the --train run (default: one per core).",
+                             ANY_PROCESSES)  # fmt: skip
+    train_envs_per_process: int = option(1, "Envs each env process of the --train run steps.",
+                                         AT_LEAST_ONE)  # fmt: skip
+    json: bool = option(False, "One JSON object per line.")
+
+    def __post_init__(self) -> None:
+        """Refuse what the command line refuses, before anything is timed (a ValueError); the
+        device is checked where it is used."""
+        for field in fields(self):
+            check, value = field.metadata["check"], getattr(self, field.name)
+            for one in value if isinstance(value, tuple) else (value,):
+                if check and field.name != "device":
+                    check(one, field.name)
+        if self.compare not in (None, *COMPARE_WITH):
+            raise ValueError(f"compare must be one of {COMPARE_WITH} or None, got {self.compare!r}")
+
+    @property
+    def timed_steps(self) -> int:
+        """The policy steps each row times: ``steps``, or 100 when ``quick``."""
+        return 100 if self.quick else self.steps
+
+
+def bench_rows(options: BenchOptions) -> Iterator[Rows]:
+    """The rows ``options`` asks for, timed one resolution at a time as they are read, each
+    group with the lines that read it: PyBullet's cloth beside the env step (``compare``), else
+    the cloth, the scene and the env step unless ``train`` (whose rows are
+    ``dressbench.training.bench.bench_rows``'s). PyBullet is looked for now, before any row
+    (a ModuleNotFoundError saying how to install it)."""
+    if options.compare:
+        pybullet_module()
+    return _bench_rows(options)
+
+
+def _bench_rows(options: BenchOptions) -> Iterator[Rows]:
+    steps, device, repeats = options.timed_steps, options.device, options.repeats
+    if options.compare:
+        for n in options.vertices or (COMPARE_VERTICES,):
+            rows = compare_pybullet(n, steps, device, repeats, options.pybullet_self_collision)
+            ratio = "dressbench / PyBullet, simulated seconds per wall second"
+            yield rows, [f"{ratio}: {rows[1]['times_pybullet']:.1f}x"]
+    elif not options.train:
+        for n in options.vertices or resolutions(options.quick):
+            yield bench_scene(n, steps, device, repeats), []
+
+
+def bench_lines(options: BenchOptions, groups: Iterable[Rows]) -> Iterator[str]:
+    """``groups`` (of ``bench_rows``) as ``dressbench bench`` prints them, each line as soon as
+    its rows are timed: one JSON object per row with ``json``, else a table (``table_header``,
+    ``table_line``) with the lines that read its rows."""
+    if not options.json:
+        yield table_header(bool(options.compare))
+    for rows, lines in groups:
+        for row in rows:
+            yield json.dumps(row) if options.json else table_line(row)
+        yield from () if options.json else lines
 
 
 def resolutions(quick: bool = False) -> tuple[int, ...]:

@@ -1,12 +1,12 @@
 """The ``dressbench`` command line: thin wrappers over the library API. An option of a config
-(``TrainConfig``, ``EnvConfig``) takes its default, help, choices and check from the field; a
-bad value ends, before any work starts, in one line naming the option and what is allowed."""
+(``TrainConfig``, ``EnvConfig``, ``BenchOptions``) takes its default, help, choices and check from
+the field; a bad value ends, before any work starts, in one line naming the option and what is
+allowed."""
 
 from __future__ import annotations
 
 import dataclasses
 import functools
-import json
 import shutil
 import signal
 import warnings
@@ -17,14 +17,14 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from .bench import COMPARE_VERTICES, pybullet_module
-from .checks import check_episodes, check_folder, check_output_file, check_processes, check_seed
+from .bench import BenchOptions, bench_lines
+from .checks import check_episodes, check_folder, check_output_file, check_seed
 from .cluster import BACKENDS, ClusterError
-from .config import EnvConfig
+from .config import ANY_PROCESSES, EnvConfig
 from .plugins.registry import PluginError
 from .training import require_train_extra
-from .training.bench import TRAIN_STEPS
-from .training.config import AT_LEAST_ONE, RECIPES, TrainConfig
+from .training.bench import bench_rows
+from .training.config import RECIPES, TrainConfig
 
 
 class _Commands(click.Group):
@@ -58,10 +58,15 @@ def _checked(check: Callable[..., Any], **arguments: Any) -> Callable[..., Any]:
 
 def _option(config: type, name: str, *decls: str, recipe: bool = False, **settings: Any):
     """The option of ``config``'s field ``name``: its default, help, choices and check; with
-    ``recipe``, no default (the recipe's, which the help lists). ``settings`` are click's."""
+    ``recipe``, no default (the recipe's, which the help lists); a bool is a flag (one that is
+    on, a pair: ``--x/--no-x``). ``settings`` are click's."""
     (field,) = (f for f in dataclasses.fields(config) if f.name == name)
     meta, default = field.metadata, field.default
     kwargs = {"default": default, "help": meta.get("help")}
+    flag = f"--{name.replace('_', '-')}"
+    if isinstance(default, bool):
+        kwargs["is_flag"] = True
+        flag += f"/--no-{flag[2:]}" if default else ""
     if recipe:
         values = ", ".join(f"{r} {_shown(getattr(TrainConfig.preset(r), name))}" for r in RECIPES)
         help = f"{meta['help'].rstrip('.')} (default: the recipe's: {values})."
@@ -72,7 +77,7 @@ def _option(config: type, name: str, *decls: str, recipe: bool = False, **settin
         kwargs["callback"] = _checked(meta["check"])
     kwargs |= settings  # a help that says its default shows no other
     kwargs.setdefault("show_default", "(default" not in (kwargs["help"] or ""))
-    return click.option(*(decls or (f"--{name.replace('_', '-')}",)), **kwargs)
+    return click.option(*(decls or (flag,)), **kwargs)
 
 
 def _fields(config: type, *names: str) -> Callable[..., Any]:
@@ -89,10 +94,6 @@ def _shown(value: Any) -> str:
     return "off" if value is None else number.format(value)
 
 
-_AT_LEAST_ONE = _checked(AT_LEAST_ONE)
-_FOLDER = _checked(check_folder)
-
-
 def _options(*options: Callable[..., Any]) -> Callable[..., Any]:
     """``options`` as one decorator, in the order given."""
     return lambda command: functools.reduce(lambda c, option: option(c), reversed(options), command)
@@ -104,8 +105,16 @@ def _episodes(**settings: Any):
 
 
 def _workers(what: str = "Parallel processes"):
-    return click.option("--workers", default=0, callback=_checked(check_processes, zero="one "
-                        "per core"), help=f"{what} (default: one per core).")  # fmt: skip
+    """``--workers``: its default, 0, is one per core, which the library reads as None."""
+    check = _checked(ANY_PROCESSES)
+    return click.option("--workers", default=0, help=f"{what} (default: one per core).",
+                        callback=lambda *given: check(*given) or None)  # fmt: skip
+
+
+def _folder(default: str = "results", decl: str = "--out", **settings: Any):
+    """An option naming a folder that exists or can be created (``default``)."""
+    return click.option(decl, default=default, show_default=True, callback=_checked(check_folder),
+                        **settings)  # fmt: skip
 
 
 _SEED_OPTION = click.option("--seed", default=0, show_default=True, callback=_checked(check_seed))
@@ -133,66 +142,20 @@ def main() -> None:
 
 
 @main.command()
-@_option(EnvConfig, "gown_vertices", "--vertices", "-v", multiple=True, default=None, type=int,
-         show_default=False, help="Gown resolutions (repeatable).")  # fmt: skip
-@click.option("--steps", default=200, show_default=True, callback=_AT_LEAST_ONE,
-              help="Policy steps timed per row.")  # fmt: skip
-@click.option("--repeats", default=3, show_default=True, callback=_AT_LEAST_ONE,
-              help="Timed runs; the fastest counts.")  # fmt: skip
-@click.option("--quick", is_flag=True, help="Only the default resolution, 100 steps.")
-@_option(EnvConfig, "device")
-@click.option("--compare", type=click.Choice(["pybullet"]), default=None,
-              help=f"Instead: PyBullet's cloth on the same gown (default "
-                   f"{COMPARE_VERTICES:,} vertices) beside the env step, in simulated seconds "
-                   f"per wall second.")  # fmt: skip
-@click.option("--pybullet-self-collision/--no-pybullet-self-collision", default=True,
-              show_default=True,
-              help="PyBullet's cloth-cloth collisions (Assistive Gym's setting: on; dressbench's "
-                   "cloth has none).")  # fmt: skip
-@click.option("--train", "train_run", is_flag=True,
-              help="Instead: a short training run (the default recipe, one env process per "
-                   "core, on the CPU) beside the env step.")  # fmt: skip
-@click.option("--train-steps", default=TRAIN_STEPS, show_default=True, callback=_AT_LEAST_ONE,
-              help="Environment steps of the --train run.")  # fmt: skip
-@_option(TrainConfig, "envs", "--train-envs",
-         help="Env processes of the --train run (default: one per core).")  # fmt: skip
-@_option(TrainConfig, "envs_per_process", "--train-envs-per-process",
-         help="Envs each env process of the --train run steps.")  # fmt: skip
-@click.option("--json", "as_json", is_flag=True, help="One JSON object per line.")
-def bench(vertices: tuple[int, ...], steps: int, repeats: int, quick: bool, device: str,
-          compare: str | None, pybullet_self_collision: bool, train_run: bool, train_steps: int,
-          train_envs: int, train_envs_per_process: int, as_json: bool) -> None:  # fmt: skip
+@_option(BenchOptions, "vertices", "--vertices", "-v", multiple=True, type=int, default=None,
+         show_default=False)  # fmt: skip
+@_fields(BenchOptions, "steps", "repeats", "quick", "device", "compare", "pybullet_self_collision",
+         "train", "train_steps", "train_envs", "train_envs_per_process", "json")  # fmt: skip
+def bench(**options: Any) -> None:
     """Time the cloth alone, the whole scene step and the env step (one process, one core);
     with --compare or --train, those comparisons instead (docs/benchmark.md)."""
-    from .bench import bench_scene, compare_pybullet, resolutions, table_header, table_line
-
-    if compare:
-        try:
-            pybullet_module()
-        except ImportError as error:
-            raise click.ClickException(str(error)) from None
-    if train_run:
-        require_train_extra()
-    steps = 100 if quick else steps
-
-    def show(rows: list[dict], lines: list[str] = ()) -> None:
-        for row in rows:
-            click.echo(json.dumps(row) if as_json else table_line(row))
-        for line in lines if not as_json else ():
-            click.echo(line)
-
-    show([], [table_header(bool(compare))])
-    for n in (vertices or (COMPARE_VERTICES,)) if compare else ():
-        theirs, ours = compare_pybullet(n, steps, device, repeats, pybullet_self_collision)
-        show([theirs, ours], [f"dressbench / PyBullet, simulated seconds per wall second: "
-                              f"{ours['times_pybullet']:.1f}x"])  # fmt: skip
-    for n in (vertices or (TrainConfig.gown_vertices,)) if train_run else ():
-        from .training.bench import bench_training, shares
-
-        rows = bench_training(n, train_steps, steps, repeats, train_envs, train_envs_per_process)
-        show(rows, shares(*rows[1:]))
-    for n in (vertices or resolutions(quick)) if not (compare or train_run) else ():
-        show(bench_scene(n, steps, device, repeats))
+    chosen = BenchOptions(**options)
+    try:
+        rows = bench_rows(chosen)  # PyBullet and the train extra: looked for before any row
+    except ModuleNotFoundError as error:  # no PyBullet: one line saying how to install it
+        raise click.ClickException(str(error)) from None
+    for line in bench_lines(chosen, rows):
+        click.echo(line)
 
 
 @main.command()
@@ -284,8 +247,7 @@ def train(resume: bool, **options: Any) -> None:
 @_option(TrainConfig, "haptics", recipe=True)
 @_fields(TrainConfig, "out", "policies")
 @_episodes(help="Rollouts per trained policy in the leaderboard.")
-@click.option("--results", default="results", show_default=True, callback=_FOLDER,
-              help="The leaderboard's folder.")  # fmt: skip
+@_folder(decl="--results", help="The leaderboard's folder.")
 @_workers("Evaluation processes")
 @_BACKEND
 def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, address,
@@ -301,7 +263,7 @@ def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, 
     grid = {"robot": robots, "ablation": ablations, "seed": seeds, "algo": algos}
     config = Sweep({axis: values for axis, values in grid.items() if values},
                    option_changes(**options), episodes=episodes, results=results,
-                   workers=workers or None, eval_gown_vertices=eval_gown_vertices)  # fmt: skip
+                   workers=workers, eval_gown_vertices=eval_gown_vertices)  # fmt: skip
     run_sweep(config, backend=backend, address=address)
     board = Path(results, "leaderboard.md")
     click.echo(f"policies in {options['policies']}, leaderboard in {board}")
@@ -311,11 +273,11 @@ def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, 
 @click.option("--robot", help="Robot strategy.")
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
 @_options(_episodes(), _SEED_OPTION, _workers(), _GOWN)
-@click.option("--out", default="results", show_default=True, callback=_FOLDER)
+@_folder()
 @_EPISODE_TIMEOUT
 @_BACKEND
 @click.pass_context
-def evaluate(ctx: click.Context, robot, human, out, workers, backend, address, **options):
+def evaluate(ctx: click.Context, robot, human, out, **options):
     """Score a human with a robot strategy over seeded rollouts; see also `leaderboard`."""
     if ctx.invoked_subcommand is not None:
         return
@@ -323,14 +285,13 @@ def evaluate(ctx: click.Context, robot, human, out, workers, backend, address, *
         raise click.UsageError("give --robot and --human, or use `dressbench evaluate leaderboard`")
     from .evaluation import evaluate as run_evaluation
 
-    run_evaluation(robot, human, workers=workers or None, out=out, backend=backend,
-                   address=address, **options)  # fmt: skip
+    run_evaluation(robot, human, out=out, **options)
     click.echo(f"results in {out} (episodes.csv, curves.csv, leaderboard.md, plots)")
 
 
 @evaluate.command("leaderboard")
 @_CELLS
-@click.option("--out", default="results", show_default=True, callback=_FOLDER)
+@_folder()
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 @click.option("--report", is_flag=True,
@@ -344,32 +305,31 @@ def leaderboard_command(workers, out, robots, humans, report, **options):
     """
     from .evaluation import leaderboard
 
-    leaderboard(workers=workers or None, out=out, robots=robots or None, humans=humans or None,
-                **options)  # fmt: skip
+    leaderboard(workers=workers, out=out, robots=robots or None, humans=humans or None, **options)
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
     if report:
         from .evaluation.webpage import write_report
 
-        click.echo(f"report in {write_report(out, workers=workers or None)}")
+        click.echo(f"report in {write_report(out, workers=workers)}")
 
 
 @evaluate.command("reproduce")
 @_CELLS
-@click.option("--out", default="results/reproduction", show_default=True, callback=_FOLDER)
+@_folder("results/reproduction")
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "
                    "the paper's policies).")  # fmt: skip
 @click.option("--doc", type=click.Path(dir_okay=False, exists=True),
               help="Also rewrite this doc's results block (docs/reproduction.md).")  # fmt: skip
 @_BACKEND
-def reproduce_command(workers, out, humans, doc, **options):
+def reproduce_command(out, humans, doc, **options):
     """The paper's comparison: its five policies, the cross-play, a verdict per claim."""
     from .evaluation import reproduction
 
     if doc:
         reproduction.documented_results(doc)  # a doc without a results block fails before
-    claims = reproduction.reproduce(workers=workers or None, out=out, **options,
-                                    humans=reproduction.paper_humans(humans or None))  # fmt: skip
+    humans = reproduction.paper_humans(humans or None)
+    claims = reproduction.reproduce(out=out, humans=humans, **options)
     for claim in claims.itertuples():
         click.echo(f"claim {claim.claim}: {claim.verdict}")
     click.echo(f"claims in {out}/claims.md, figures in {out}/*.png")
@@ -383,12 +343,12 @@ def reproduce_command(workers, out, humans, doc, **options):
 @click.option("--videos/--no-videos", default=True, show_default=True,
               help="Render (or reuse) one seeded rollout video per cell.")  # fmt: skip
 @_workers("Processes rendering videos")
-def report_command(results: str, videos: bool, workers: int) -> None:
+def report_command(results: str, videos: bool, workers: int | None) -> None:
     """Write RESULTS/report/index.html: a static page of the leaderboard, the success
     definitions, the plots, a video per cell and the run's metadata (no server needed)."""
     from .evaluation.webpage import write_report
 
-    click.echo(f"report in {write_report(results, videos=videos, workers=workers or None)}")
+    click.echo(f"report in {write_report(results, videos=videos, workers=workers)}")
 
 
 @main.command()

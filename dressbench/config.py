@@ -8,14 +8,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
+from functools import partial
 from typing import Any
 
-from .checks import check_device, check_gown_vertices, check_horizon
+from .checks import check_device, check_gown_vertices, check_horizon, check_int, check_processes
 from .metrics import deformation_limit
 from .observation import ABLATIONS, check_ablation
 from .scene.clock import POLICY_DT
 from .scene.garment import GownConfig
 from .scene.world import SceneConfig
+
+AT_LEAST_ONE = partial(check_int, minimum=1)  # a count of one or more
+ANY_PROCESSES = partial(check_processes, zero="one per core")  # 0: one per core
 
 
 def option(default: Any, help: str, check: Callable[..., Any] | None = None, **more: Any) -> Any:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from dressbench.bench import BenchOptions, bench_lines, table_header, table_line, timing_row
 from dressbench.cli import main
 from dressbench.scene.garment import GownConfig, make_gown, write_obj
 from dressbench.training import TrainConfig
@@ -119,3 +120,21 @@ def test_train_reports_env_steps_per_second_and_leaves_no_runs_or_policies(tmp_p
     )
     assert not (tmp_path / "policies").exists() and not (tmp_path / "runs").exists()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_bench_options_refuse_what_the_command_line_refuses_and_train_as_training_does():
+    bad = {"steps": 0, "vertices": (300, 3), "train_envs": -1, "compare": "mujoco"}
+    for name, value in bad.items():
+        with pytest.raises(ValueError, match=name):
+            BenchOptions(**{name: value})
+    options = BenchOptions()
+    assert options.train_envs == TrainConfig.envs
+    assert options.train_envs_per_process == TrainConfig.envs_per_process
+
+
+def test_bench_lines_are_a_table_with_its_lines_or_one_json_object_per_row():
+    row = timing_row(300, "env", 5, 0.5)
+    groups = [([row], ["what the row says"])]
+    table = [table_header(), table_line(row), "what the row says"]
+    assert list(bench_lines(BenchOptions(), groups)) == table
+    assert list(bench_lines(BenchOptions(json=True), groups)) == [json.dumps(row)]

@@ -10,16 +10,37 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Iterator
+from itertools import chain
 from pathlib import Path
 
 import numpy as np
 
-from ..bench import bench_env, timing_row
+from ..bench import TRAIN_STEPS, BenchOptions, Rows, bench_env, timing_row
+from ..bench import bench_rows as physics_rows
+from . import require_train_extra
 from .config import TrainConfig
 
 BENCH_RUN = "bench"  # the run's name inside the temporary folder
-TRAIN_STEPS = 8192  # two of the default recipe's updates (4,096 samples each)
 TARGET_SHARE = 0.85  # training's aim: this share of (env processes x the single env step)
+
+
+def bench_rows(options: BenchOptions) -> Iterator[Rows]:
+    """``dressbench.bench.bench_rows``, then with ``train`` a short training run beside the env
+    step at each resolution (the training gown where none is given), with the lines of its
+    shares (``shares``). PyBullet and the ``train`` extra are looked for now, before any row."""
+    rows = physics_rows(options)
+    if not options.train:
+        return rows
+    require_train_extra()
+    return chain(rows, _training_rows(options))
+
+
+def _training_rows(options: BenchOptions) -> Iterator[Rows]:
+    for n in options.vertices or (TrainConfig.gown_vertices,):
+        rows = bench_training(n, options.train_steps, options.timed_steps, options.repeats,
+                              options.train_envs, options.train_envs_per_process)  # fmt: skip
+        yield rows, shares(*rows[1:])
 
 
 def bench_training(

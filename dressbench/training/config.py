@@ -6,7 +6,6 @@ import dataclasses
 import math
 import os
 from dataclasses import asdict, dataclass
-from functools import partial
 from typing import Any
 
 from ..checks import (
@@ -18,7 +17,7 @@ from ..checks import (
     check_processes,
     check_seed,
 )
-from ..config import EnvConfig, option, option_like
+from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, option, option_like
 from ..observation import HAPTIC_SCALES, check_haptic_scale
 from ..scene.actuation import ACTUATIONS, check_actuation
 from .curriculum import CurriculumConfig
@@ -30,8 +29,6 @@ RECIPES = ("default", "fine-gown", "paper")
 # the training gown: half the evaluation's resolution, so a step costs about two thirds; what a
 # human learns on it carries over (docs/experiments/2026-12-05-coarse-training-gown.md)
 TRAINING_GOWN_VERTICES = 1000
-AT_LEAST_ONE = partial(check_int, minimum=1)
-ANY_PROCESSES = partial(check_processes, zero="one per core")  # 0: one per core
 
 
 @dataclass(frozen=True)
