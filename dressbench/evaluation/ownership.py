@@ -32,9 +32,10 @@ def check_owned(out: str | os.PathLike[str]) -> None:
         return
     taken = [path.name for path in sorted(folder.iterdir()) if _ours(path)]
     if taken:
+        them = "them" if len(taken) > 1 else "it"
         raise ValueError(
             f"out {str(folder)!r} holds {', '.join(taken)}, which dressbench did not write (the "
-            f"folder has no {MARKER}): choose another folder (--out), or move them"
+            f"folder has no {MARKER}): choose another folder (--out), or move {them}"
         )
 
 
