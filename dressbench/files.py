@@ -20,6 +20,8 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.figure import Figure
 
+MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, metadata, plot)
+
 
 def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Replace ``path`` by ``data`` atomically; on error the old file stays, no temp remains."""

@@ -11,6 +11,8 @@ calling process first, so that ``leaderboard`` skips such plugins with one line 
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -34,26 +36,47 @@ if TYPE_CHECKING:
 def robot_problem(plugin: Plugin) -> str | None:
     """Why the robot strategy of a resolved record cannot be evaluated, or None: a fresh
     instance's start pose for the check's seed (``start_pose_problem``), then one ``act`` on the
-    robot observation of a real env, and one env step with that action."""
+    robot observation of a real env, and one env step with that action. A robot whose ``reset``
+    or ``act`` draws from NumPy's global random state passes, with a warning naming it."""
     from .config import EnvConfig  # here: it loads the physics
     from .env import HUMAN, ROBOT, DressingEnv
 
+    drawn: list[str] = []  # its methods that drew from NumPy's global random state
     try:
         robot = plugin.factory()
-        problem = start_pose_problem(robot.reset(np.random.default_rng(CHECK_SEED)))
+        pose = _watched(drawn, "reset", robot.reset, np.random.default_rng(CHECK_SEED))
+        problem = start_pose_problem(pose)
         if problem:
             return problem
         config = EnvConfig(gown_vertices=CHECK_VERTICES, horizon=CHECK_HORIZON)
         env = DressingEnv(robot, config, robot_name=plugin.name, robot_origin=plugin.origin)
         observations, _ = env.reset(seed=CHECK_SEED)
-        action = robot.act(observations[ROBOT])
+        action = _watched(drawn, "act", robot.act, observations[ROBOT])
         problem = robot_action_problem(action)
         if problem:
             return problem
         env.step({ROBOT: np.asarray(action, dtype=float), HUMAN: np.zeros(HUMAN_ACTION_SIZE)})
     except Exception as exc:  # a plugin may raise anything; say what, in one line
         return f"its check (one reset and one act) failed: {_one_line(exc)}"
+    if drawn:
+        warnings.warn(
+            f"robot plugin {plugin.name!r} from {plugin.source} draws from NumPy's global random "
+            f"state (np.random) in {' and '.join(drawn)}: its episodes cannot be repeated; draw "
+            f"from the generator reset gets",
+            stacklevel=2,
+        )
     return None
+
+
+def _watched(drawn: list[str], method: str, call: Callable[..., Any], *args: Any) -> Any:
+    """``call(*args)``; ``method`` is added to ``drawn`` when the call changed NumPy's global
+    random state (a robot whose episodes no seed repeats)."""
+    before = np.random.get_state()  # noqa: NPY002 - the legacy global state is what is watched
+    result = call(*args)
+    after = np.random.get_state()  # noqa: NPY002
+    if before[0] != after[0] or not np.array_equal(before[1], after[1]) or before[2:] != after[2:]:
+        drawn.append(method)
+    return result
 
 
 def human_problem(policy: Any, observation: np.ndarray) -> str | None:

@@ -238,3 +238,213 @@ def test_a_mistyped_policies_folder_is_named(tmp_path, monkeypatch):
             plugins.human_plugins()
     finally:
         plugins.refresh()
+
+
+# --- a name resolves to one policy ------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "provider"),
+    [("crashy", f"human plugin 'crashy' {FROM}"), ("fixed-default-s0", "human plugin "
+     "'fixed-default-s0' from policy file ")],
+)  # fmt: skip
+def test_train_refuses_a_name_another_plugin_or_a_shipped_policy_provides(
+    hostile, tmp_path, name, provider
+):
+    runs, models = tmp_path / "runs", tmp_path / "policies"
+    result = CliRunner().invoke(main, ["train", "--name", name, "--envs", "1", "--timesteps", "64",
+                                       "--gown-vertices", "300", "--out", str(runs),
+                                       "--policies", str(models)])  # fmt: skip
+    assert result.exit_code == 1 and "Traceback" not in result.output, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith(f"Error: name {name!r} is taken: {provider}"), line
+    assert line.endswith("train under another name (--name)"), line
+    assert not runs.exists() and not models.exists()
+
+
+def _policies_on_path(monkeypatch, folder: Path) -> None:
+    """Make ``folder`` the only place the registry finds trained models."""
+    from dressbench import plugins
+
+    monkeypatch.setenv("DRESSBENCH_POLICIES", str(folder))
+    plugins.refresh()
+
+
+def test_a_rerun_may_replace_its_own_policy_but_not_one_elsewhere(tmp_path, monkeypatch):
+    from test_reliability import write_policy
+
+    from dressbench import plugins
+    from dressbench.training import TrainConfig
+
+    mine = tmp_path / "policies"
+    write_policy(mine, "mine")
+    _policies_on_path(monkeypatch, mine)
+    options = {"name": "mine", "gown_vertices": 300, "horizon": 3, "out": str(tmp_path / "runs")}
+    try:
+        TrainConfig(policies=str(mine), **options).check()  # its own earlier policy: a re-run
+        with pytest.raises(ValueError, match=r"^name 'mine' is taken: human plugin 'mine' from "
+                                             r"policy file .*mine\.json"):  # fmt: skip
+            TrainConfig(policies=str(tmp_path / "elsewhere"), **options).check()
+    finally:
+        plugins.refresh()
+
+
+def test_an_evaluation_names_the_losing_duplicate_of_its_human(tmp_path, monkeypatch):
+    from test_reliability import write_policy
+
+    from dressbench import plugins
+
+    folder = tmp_path / "policies"
+    write_policy(folder, "passive")
+    _policies_on_path(monkeypatch, folder)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            dressbench.evaluate("fixed", "passive", episodes=1, workers=1,
+                                out=tmp_path / "results", **TINY)  # fmt: skip
+    finally:
+        plugins.refresh()
+    (line,) = [line for line in _messages(caught) if "duplicate" in line]
+    assert line == (f"human 'passive' has a losing duplicate: the one from dressbench "
+                    f"{dressbench.__version__} runs, not the one from policy file "
+                    f"{(folder / 'passive.json').resolve()} (rename it to run it)")  # fmt: skip
+
+
+# --- --out writes only files it owns ----------------------------------------------------------
+
+
+def test_out_refuses_a_folder_holding_a_readme_it_did_not_write(tmp_path):
+    folder = tmp_path / "notes"
+    folder.mkdir()
+    (folder / "README.md").write_text("my notes\n")
+    result = CliRunner().invoke(main, ["evaluate", "--robot", "fixed", "--human", "passive",
+                                       "--episodes", "1", "--workers", "1", "--gown-vertices",
+                                       "300", "--out", str(folder)])  # fmt: skip
+    assert result.exit_code == 1 and "Traceback" not in result.output, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith(f"Error: out {str(folder)!r} holds README.md, which dressbench did not "
+                           "write"), line  # fmt: skip
+    assert [p.name for p in folder.iterdir()] == ["README.md"]
+    assert (folder / "README.md").read_text() == "my notes\n"
+
+
+def test_out_takes_its_own_results_folders_those_written_before_the_marker_too(tmp_path):
+    from dressbench.evaluation.ownership import MARKER
+
+    out = _results(tmp_path)
+    assert (out / MARKER).is_file()
+    for written_before_the_marker in ([], ["run_meta.json", "README.md"]):  # whole, stopped
+        for name in [MARKER, *written_before_the_marker]:
+            (out / name).unlink()
+        dressbench.evaluate("fixed", "passive", episodes=1, workers=1, out=out, **TINY)
+        assert (out / MARKER).is_file()
+
+
+# --- two trainings of one run do not interleave -----------------------------------------------
+
+
+def test_a_training_run_is_locked_while_it_trains_and_a_dead_holder_is_taken_over(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    from dressbench.training import TrainConfig
+    from dressbench.training.run import TrainingRun
+
+    where = {"out": str(tmp_path / "runs"), "policies": str(tmp_path / "policies")}
+    config = TrainConfig(name="busy", envs=1, timesteps=64, gown_vertices=300, horizon=3, **where)
+    run = TrainingRun(config)
+    run._run = lambda progress: config.check()  # inside: another call finds the run in use
+    with pytest.raises(ValueError, match=rf"^training run 'busy' in {run.folder} is in use by "
+                                         rf"process {os.getpid()}: "):  # fmt: skip
+        run.run(progress=False)
+    run.folder.mkdir(parents=True)
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\n"
+                               "from pathlib import Path\n"
+                               "from dressbench.training.lock import run_lock\n"
+                               "with run_lock(Path(sys.argv[1])):\n"
+                               "    print('held', flush=True)\n"
+                               "    time.sleep(120)\n", str(run.folder)],
+                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        with pytest.raises(ValueError, match=rf"in use by process {holder.pid}: "):
+            config.check()
+    finally:
+        holder.kill()
+        holder.wait()
+    config.check()  # its holder died: the lock is free again
+    from dressbench.training.lock import run_lock
+
+    with run_lock(run.folder):
+        assert str(os.getpid()) in (run.folder / "run.lock").read_text()
+
+
+# --- a cached record agrees with itself -------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("score", "curve", "what"),
+    [("final_arm_progress", "arm_progress", "the last value"),
+     ("max_deformation", "max_deformation_curve", "the largest value")],
+)  # fmt: skip
+def test_a_record_whose_score_contradicts_its_curve_runs_again(tmp_path, capsys, score, curve,
+                                                                what):  # fmt: skip
+    import json
+    import shutil
+
+    out = _results(tmp_path)
+    shutil.rmtree(out / "cells")  # else the cell's archive would serve the episode
+    (path,) = (out / "rollouts").rglob("*.json")
+    data = json.loads(path.read_text())
+    right = data[score]
+    data[score] = right + 0.25
+    path.write_text(json.dumps(data))
+    capsys.readouterr()
+    table = dressbench.evaluate("fixed", "passive", episodes=1, workers=1, out=out, **TINY)
+    assert table[score].iloc[0] == right
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line == (f"dressbench: discarded {path}: its {score} {right + 0.25!r} is not {what} "
+                    f"of its {curve} curve ({right!r}); the episode runs again")  # fmt: skip
+
+
+def test_a_cell_archive_whose_score_contradicts_its_curve_runs_again(tmp_path, capsys):
+    import numpy as np
+
+    from dressbench.evaluation import archive
+
+    cell, path = _archived_cell(tmp_path)
+    with np.load(path) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["final_arm_progress"] = arrays["final_arm_progress"] + 0.25
+    np.savez_compressed(path, **arrays)
+    capsys.readouterr()
+    assert archive.load_archive(tmp_path, cell, 0) == []
+    line = capsys.readouterr().err.strip()
+    assert line.startswith(f"dressbench: ignored {path}: episode 0: its final_arm_progress "), line
+
+
+# --- a robot that makes results unrepeatable is named -----------------------------------------
+
+
+def test_a_robot_drawing_from_the_global_random_state_is_named(hostile):
+    from dressbench.plugins import robot_plugin
+    from dressbench.preflight import robot_problem
+
+    with pytest.warns(UserWarning) as caught:
+        assert robot_problem(robot_plugin("gambler")) is None
+    (line,) = _messages(caught)
+    assert line == (f"robot plugin 'gambler' {FROM} draws from NumPy's global random state "
+                    "(np.random) in reset: its episodes cannot be repeated; draw from the "
+                    "generator reset gets")  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert robot_problem(robot_plugin("fixed")) is None
+
+
+# --- the docs say what one worker does not isolate --------------------------------------------
+
+
+def test_the_docs_say_what_one_worker_does_not_isolate():
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "evaluation.md").read_text()
+    assert "`--workers 1`" in docs and "`os._exit`" in docs and "`--workers 2`" in docs

@@ -71,7 +71,8 @@ def save_archive(out: Path, cell: Cell, seed: int, records: Sequence[EpisodeReco
 
 def load_archive(out: Path, cell: Cell, seed: int, quiet: bool = False) -> list[EpisodeRecord]:
     """The archived episodes 0..n-1 of ``cell`` under ``seed`` ([] if none); an unreadable
-    archive or one of another identity is ignored, with a one-line notice."""
+    archive, one of another identity or one whose scores contradict its curves
+    (``EpisodeRecord.contradiction``) is ignored, with a one-line notice."""
     path = archive_path(out, cell, seed)
     if not path.exists():
         return []
@@ -84,13 +85,17 @@ def load_archive(out: Path, cell: Cell, seed: int, quiet: bool = False) -> list[
             problem = "" if same(identity, cell.identity) else "it belongs to another setup"
             if int(arrays["seed"]) != seed:
                 problem = f"its base seed is {int(arrays['seed'])}"
-    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+        if not problem:
+            records = [_record(cell, arrays, i) for i in range(len(arrays["episode_seed"]))]
+            problem = next((f"episode {i}: {why}" for i, record in enumerate(records)
+                            if (why := record.contradiction())), "")  # fmt: skip
+    except (OSError, ValueError, KeyError, IndexError, zipfile.BadZipFile) as exc:
         problem = f"unreadable ({type(exc).__name__})"
     if problem:
         if not quiet:
             notice(f"ignored {path}: {problem}; its episodes run again")
         return []
-    return [_record(cell, arrays, i) for i in range(len(arrays["episode_seed"]))]
+    return records
 
 
 def _size_problem(path: Path, horizon: int) -> str:

@@ -9,7 +9,14 @@ from dataclasses import asdict, dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-from ..plugins import Plugin, human_plugin, human_plugins, robot_plugin, robot_plugins
+from ..plugins import (
+    Plugin,
+    human_plugin,
+    human_plugins,
+    human_providers,
+    robot_plugin,
+    robot_plugins,
+)
 from .identity import canonical, digest, plain
 
 if TYPE_CHECKING:
@@ -176,7 +183,7 @@ def leaderboard_cells(
     for noun, name, problem in problems + found:
         records = robot_records if noun == "robot" else human_records
         warnings.warn(
-            f"skipping {noun} plugin {name!r} from {_origin(records[name])}: {problem}",
+            f"skipping {noun} plugin {name!r} from {records[name].source}: {problem}",
             stacklevel=2,
         )
     return [
@@ -233,7 +240,7 @@ def checked_cell(robot: str, human: str, **options: Any) -> Cell:
         noun, name, problem = problems[0]
         record = records[0] if noun == "robot" else records[1]
         raise ValueError(
-            f"{noun} plugin {name!r} from {_origin(record)} cannot be evaluated: {problem}"
+            f"{noun} plugin {name!r} from {record.source} cannot be evaluated: {problem}"
         )
     return resolved_cell(records, policy, **options)
 
@@ -253,15 +260,27 @@ def _instances(
     return policies, problems
 
 
+def warn_losing_duplicates(cells: Iterable[Cell]) -> None:
+    """One warning per human the cells run that other plugins or policy files also provide:
+    which one runs, and which do not."""
+    for name in dict.fromkeys(cell.human for cell in cells):
+        providers = human_providers(name)
+        if len(providers) < 2:
+            continue
+        winner, *losers = providers
+        others = "; ".join(plugin.source for plugin in losers)
+        lost = f"the one from {others}" if len(losers) == 1 else f"those from {others}"
+        warnings.warn(
+            f"human {name!r} has a losing duplicate: the one from {winner.source} runs, not "
+            f"{lost} (rename it to run it)",
+            stacklevel=3,
+        )
+
+
 def describe_plugin(noun: str, name: str) -> str:
     """``"NOUN plugin 'NAME' from ORIGIN"``: a plugin in a message."""
     records = robot_plugins() if noun == "robot" else human_plugins()
-    return f"{noun} plugin {name!r} from {_origin(records[name])}"
-
-
-def _origin(plugin: Any) -> str:
-    """Where a plugin comes from, for messages: ``'package version'``, or the policy file."""
-    return plugin.package if plugin.from_policy_file else plugin.origin
+    return f"{noun} plugin {name!r} from {records[name].source}"
 
 
 def _usable(plugins: Mapping[str, Any], wanted: Iterable[str] | None, noun: str) -> list[str]:
@@ -274,7 +293,7 @@ def _usable(plugins: Mapping[str, Any], wanted: Iterable[str] | None, noun: str)
         if not plugins[name].ok:
             plugin = plugins[name]
             warnings.warn(
-                f"skipping broken {noun} plugin {name!r} from {_origin(plugin)}: {plugin.error}",
+                f"skipping broken {noun} plugin {name!r} from {plugin.source}: {plugin.error}",
                 stacklevel=3,
             )
     return [name for name in names if plugins[name].ok]

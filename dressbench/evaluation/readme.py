@@ -12,11 +12,12 @@ from typing import Any
 from ..files import write_text
 
 README = "README.md"
+MARKER = ".dressbench-results"  # marks a folder as dressbench's results folder (ownership.py)
 _WRITTEN = ("Written by dressbench from the files in this folder (`dressbench.evaluation.readme`) "
             "each time an evaluation writes to it.")  # fmt: skip
 
 # what each file an evaluation writes is; a name with {robot} is one file per robot strategy
-_FILES = {
+FILES = {
     "leaderboard.md": "the leaderboard table, with every number defined in its caption",
     "leaderboard.csv": "the same table, every column (means, std, 95% intervals, stage rates)",
     "strategies.md": "the strategy table: each robot strategy over the humans trained for it "
@@ -35,6 +36,8 @@ _FILES = {
     "scores): committed, so an evaluation on another machine reuses the cells instead of "
     "running them again",
     "rollouts": "the resume cache, one record per rollout (not committed: `.gitignore`)",
+    MARKER: "marks the folder as dressbench's: an evaluation replaces its files only in a folder "
+    "so marked, or in one that holds none of them",
 }
 
 
@@ -118,7 +121,7 @@ def _evaluation(meta: dict[str, Any], folder: Path) -> list[str]:
                      f"| {_source(plugin['human'])} |")  # fmt: skip
     lines += ["", "## Files", ""]
     robots = list(dict.fromkeys(cell["robot"] for cell in meta["cells"]))
-    for name, what in _FILES.items():
+    for name, what in FILES.items():
         names = [name.format(robot=robot) for robot in robots] if "{robot}" in name else [name]
         present = [n for n in names if (folder / n).exists()]
         if present:

@@ -70,6 +70,19 @@ class EpisodeRecord:
             "steps": self.steps,
         }
 
+    def contradiction(self) -> str:
+        """What in the record contradicts itself ('' if nothing): a final score that is not
+        its curve's (the last arm progress, the largest deformation)."""
+        for score, curve, what, of in (
+            ("final_arm_progress", "arm_progress", "the last value", lambda c: c[-1]),
+            ("max_deformation", "max_deformation_curve", "the largest value", np.max),
+        ):
+            value, values = float(getattr(self, score)), getattr(self, curve)
+            if values.size and not np.array_equal(value, of(values), equal_nan=True):
+                expected = float(of(values))
+                return f"its {score} {value!r} is not {what} of its {curve} curve ({expected!r})"
+        return ""
+
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict (arrays as lists; floats round-trip exactly)."""
         data = asdict(self)

@@ -20,7 +20,8 @@ from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
 from .archive import load_archive, save_archive
-from .cells import Cell, checked_cell, describe_plugin, leaderboard_cells
+from .cells import Cell, checked_cell, describe_plugin, leaderboard_cells, warn_losing_duplicates
+from .ownership import check_owned, claim
 from .remote import ray_tasks
 from .report import stage_definitions, success_definition, write_summary
 from .rollouts import SUCCESS_DEPTH, EpisodeRecord
@@ -117,8 +118,9 @@ def check_run(
     """Refuse, before anything runs, a count out of range, an ``out`` that is no folder or an
     unknown backend: episodes from 1 to ``MAX_EPISODES``, seed from 0 to ``MAX_SEED``, workers
     None (one per core) or from 1 to ``MAX_PROCESSES``, ``out`` a folder that exists or can be
-    created, ``backend`` and ``address`` as ``Backend`` takes them, ``episode_timeout`` None or
-    positive. Returns the backend."""
+    created and not a folder of someone else's files that the results would replace
+    (``ownership.check_owned``), ``backend`` and ``address`` as ``Backend`` takes them,
+    ``episode_timeout`` None or positive. Returns the backend."""
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode_timeout must be positive seconds, got {episode_timeout!r}")
     check_episodes(episodes)
@@ -126,6 +128,7 @@ def check_run(
     if workers is not None:
         check_processes(workers)
     check_folder(out, "out")
+    check_owned(out)
     return Backend(backend, address)
 
 
@@ -149,7 +152,8 @@ def evaluate_cells(
     Returns the episodes table and the leaderboard table.
     """
     started, clock = datetime.now(timezone.utc), time.perf_counter()
-    out.mkdir(parents=True, exist_ok=True)
+    warn_losing_duplicates(cells)
+    claim(out)
     tasks = [
         Task(cell, seed, episode, success_depth, episode_timeout or _default_timeout(cell))
         for cell in cells

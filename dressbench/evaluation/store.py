@@ -5,9 +5,10 @@ Each episode is saved, as soon as it finishes, to its own JSON file
 cell's identity (``Cell.identity``: the robot's and the human's identities, a trained policy's
 checksum among them, and the full env configuration), and the file stores the episode's full
 identity (the cell's, the base seed and the index) beside the record. A task whose file holds a
-readable record of the same identity is done and is not run again. Any other file in its place
-(truncated, corrupt, or of another identity) is discarded with a one-line notice naming it, and
-the task runs again; its new record replaces the file.
+readable record of the same identity, whose final scores are its curves', is done and is not run
+again. Any other file in its place (truncated, corrupt, of another identity, or contradicting
+itself) is discarded with a one-line notice naming it, and the task runs again; its new record
+replaces the file.
 """
 
 from __future__ import annotations
@@ -71,6 +72,9 @@ def load_record(out: Path, task: Task) -> EpisodeRecord | None:
     problem = _inconsistency(record, task)
     if problem:
         return _discard(path, f"its record disagrees with its identity ({problem})")
+    problem = record.contradiction()
+    if problem:
+        return _discard(path, problem)
     return replace(record, success_depth=task.success_depth)
 
 

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..files import parse_json, slug, write_bytes, write_text
+from ..files import MAX_READ_BYTES, parse_json, slug, write_bytes, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .strategies import STRATEGY_CAPTION, score_text
@@ -33,7 +33,6 @@ REPORT_FOLDER = "report"
 _NEEDED = ("robot", "human", "ablation", "episodes", "horizon", "gown_vertices", "device", "seed",
            "config_id", "sim_failures", *(f"{m}_{s}" for m in ("final_arm_progress",
            "max_deformation") for s in ("mean", "ci_low", "ci_high")))  # fmt: skip
-MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, metadata, plot)
 STRATEGY_FIGURE = "strategies.png"
 VIDEO_SUFFIX = ".mp4"
 STAGES = (("hand_in", "hand in"), ("success", "past the elbow (success)"), ("dressed", "dressed"))

@@ -54,6 +54,11 @@ class Plugin:
         """``'package version'``, for messages."""
         return f"{self.package} {self.version}"
 
+    @property
+    def source(self) -> str:
+        """Where the plugin comes from, for messages: ``'package version'``, or the policy file."""
+        return self.package if self.from_policy_file else self.origin
+
     def __reduce__(self) -> tuple[Callable[..., Plugin], tuple[str, ...]]:
         """Pickled without its factory, which the receiving process imports again from
         ``value`` on first use, without discovering the group: a worker makes instances from
@@ -323,6 +328,12 @@ def robot_plugins() -> dict[str, Plugin]:
 def human_plugins() -> dict[str, Plugin]:
     """Every human plugin name and the record it resolves to, ok or broken."""
     return _by_name(_HUMAN)
+
+
+def human_providers(name: str) -> list[Plugin]:
+    """Every human record named ``name``, ok or broken: the one it resolves to first, then its
+    losing duplicates."""
+    return [plugin for plugin in _records(_HUMAN) if plugin.name == name]
 
 
 def all_plugins() -> list[Plugin]:

@@ -6,6 +6,7 @@ import dataclasses
 import math
 import os
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any
 
 from ..checks import (
@@ -120,19 +121,36 @@ class TrainConfig:
     def check(self) -> None:
         """What a run needs besides its numbers, checked before anything is written: the robot
         strategy loads (else a ``PluginError``) and passes one reset and one act in a small env,
-        the env options are valid, and ``out`` and ``policies`` are folders that exist or can
-        be created (else a ``ValueError``)."""
+        the env options are valid, ``out`` and ``policies`` are folders that exist or can be
+        created, no other process trains the run (``lock.check_unlocked``), and no human but
+        the run's own earlier policy has its name (else a ``ValueError``)."""
         from ..plugins import robot_plugin
         from ..preflight import robot_problem
+        from .lock import check_unlocked
 
         plugin = robot_plugin(self.robot)
         EnvConfig(ablation=self.ablation, gown_vertices=self.gown_vertices, horizon=self.horizon)
         check_folder(self.out, "out")
         check_folder(self.policies, "policies")
+        check_unlocked(Path(self.out) / self.run_name)
+        self._check_name_free()
         problem = robot_problem(plugin)
         if problem:
             raise ValueError(f"robot plugin {self.robot!r} from {plugin.origin} cannot be trained "
                              f"for: {problem}")  # fmt: skip
+
+    def _check_name_free(self) -> None:
+        """Refuse a name another human plugin or policy file provides: the policy would not be
+        the one its name runs. The policy file this run exports to is its own (a re-run)."""
+        from ..plugins import human_providers
+        from ..policy_file import JSON_SUFFIX
+
+        own = (Path(self.policies) / f"{self.run_name}{JSON_SUFFIX}").resolve()
+        for plugin in human_providers(self.run_name):
+            if not (plugin.from_policy_file and Path(plugin.value).resolve() == own):
+                raise ValueError(f"name {self.run_name!r} is taken: human plugin "
+                                 f"{self.run_name!r} from {plugin.source} provides it; train "
+                                 f"under another name (--name)")  # fmt: skip
 
     @classmethod
     def preset(cls, recipe: str = "default", **changes) -> TrainConfig:

@@ -30,6 +30,7 @@ from ..provenance import git_commit, versions
 from .callbacks import Checkpoints, CurriculumLevels, Progress, StopAt, Warmup
 from .config import TrainConfig, option_changes
 from .curriculum import NearStarts
+from .lock import run_lock
 from .summary import learning_table, training_seconds, write_learning_table
 from .tear import TornGown
 from .vec_env import SharedCoreVecEnv
@@ -127,19 +128,21 @@ class TrainingRun:
         """Train to ``timesteps`` (resuming a checkpoint if there is one) and export.
 
         Bad input fails before the run folder is made (``TrainConfig.check``); a run that this
-        call started fails before its first checkpoint leaves no folder behind.
+        call started fails before its first checkpoint leaves no folder behind. The run's lock
+        (``lock.run_lock``) is held throughout: another process training it is refused.
         """
         self.config.check()
-        self._check_resumable()
         torch.set_num_threads(1)  # a second thread does not speed these small updates up
         created = not self.folder.exists()
         self.folder.mkdir(parents=True, exist_ok=True)
-        try:
-            return self._run(progress)
-        except Exception:
-            if created and not self.model_path.exists():
-                shutil.rmtree(self.folder, ignore_errors=True)
-            raise
+        with run_lock(self.folder):
+            try:
+                self._check_resumable()
+                return self._run(progress)
+            except Exception:
+                if created and not self.model_path.exists():
+                    shutil.rmtree(self.folder, ignore_errors=True)
+                raise
 
     def _check_resumable(self) -> None:
         """A checkpoint goes on only with the settings it was trained on (but ``RESUMABLE``):
@@ -287,7 +290,9 @@ class TrainingRun:
                          "env_steps_per_second": round(steps / max(seconds, 1e-9), 1)}  # fmt: skip
 
     def export(self, model) -> Path:
-        """The finished policy as safetensors + JSON in the policies folder."""
+        """The finished policy as safetensors + JSON in the policies folder; plugins are
+        discovered again on next use, so that this process finds it by name."""
+        from ..plugins import refresh
         from .export import save_policy
 
         cfg = self.config
@@ -308,6 +313,7 @@ class TrainingRun:
         norm = model.get_vec_normalize_env()
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
                                    clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip
+        refresh()
         return Path(json_path)
 
 

@@ -1,4 +1,5 @@
-"""Humans that pass the preflight (one act) and then fail in their episodes."""
+"""Humans that pass the preflight (one act) and then fail in their episodes, and a robot whose
+results cannot be repeated."""
 
 import os
 import sys
@@ -54,3 +55,18 @@ class WrongSize(Human):
     def act(self, observation):
         self.acts += 1
         return np.zeros(11 if self.acts == 1 else 10)
+
+
+class Gambler:
+    """The built-in fixed robot, but its start pose jitters by NumPy's global random state."""
+
+    api_version = 1
+
+    def reset(self, rng):
+        from dressbench.plugins.robots import FixedGown
+
+        jitter = np.random.uniform(-0.01, 0.01, 3)  # noqa: NPY002 - the fault under test
+        return FixedGown().reset(rng) + np.r_[jitter, np.zeros(4)]
+
+    def act(self, observation):
+        return np.zeros(3)
