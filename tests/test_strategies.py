@@ -48,9 +48,9 @@ def seeds_of(robot: str, means: list[float], spread: float = 0.05, n: int = 100,
 
 
 def test_a_policy_file_gives_its_group_and_seed():
-    policy = load_policy(human_plugins()["fixed-default-s1"].value)
+    policy = load_policy(human_plugins()["fixed-fine-gown-s1"].value)
     assert human_group(policy.name, "fixed", "complete", policy.metadata) == TrainedHuman(
-        "fixed", "default", "complete", 1
+        "fixed", "fine-gown", "complete", 1
     )
 
 
