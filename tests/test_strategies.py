@@ -173,7 +173,7 @@ def test_only_strategies_of_one_recipe_and_ablation_compete():
 
 
 def test_a_human_on_a_strategy_it_was_not_trained_for_is_left_out():
-    scores = seeds_of("fixed", [0.4]) | {("front_linear", "fixed-default-s0"): np.ones(100)}
+    scores = seeds_of("fixed", [0.4]) | {("front_linear", "fixed-fine-gown-s0"): np.ones(100)}
     assert list(strategy_table(episodes(scores), resamples=500)["robot"]) == ["fixed"]
 
 

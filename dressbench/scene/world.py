@@ -126,6 +126,8 @@ class Scene:
         raises on divergence."""
         if self.failed:
             return StepInfo(True, self.failure_reason)
+        if not np.isfinite(action).all():  # a NaN target would poison the body's whole state
+            return self.fail("the human's action is not finite")
         self.human.set_action(action)
         start, end = self.gripper_pose, np.asarray(gripper_pose, dtype=float)
         self.cloth.clear_haptics()
