@@ -35,9 +35,15 @@ def test_the_time_figure_draws_every_run_against_hours_and_names_runs_that_did_n
     hand_in = panels["hand in, episodes begun at rest"]
     assert [line.get_label() for line in hand_in.lines] == ["coarse gown"]
     assert hand_in.lines[0].get_xdata().tolist() == [0.25, 0.5, 1.0]  # hours, not steps
-    assert "not logged: today's default" in hand_in.get_xlabel()
     progress = panels["final arm progress, begun at rest"]
     assert [line.get_ydata()[-1] for line in progress.lines] == [0.4, 0.3]
+    colour = {line.get_label(): line.get_color() for line in progress.lines}
+    assert hand_in.lines[0].get_color() == colour["coarse gown"]  # a run's colour in every panel
+    (legend,) = figure.legends
+    assert [text.get_text() for text in legend.get_texts()] == [
+        "coarse gown (not logged: past the elbow, max deformation)",
+        "today's default (not logged: hand in, past the elbow, max deformation)",
+    ]
     paths = {}
     for label, table in (("a", fast), ("b", old)):
         paths[label] = tmp_path / f"{label}.csv"

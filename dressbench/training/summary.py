@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from ..files import write_csv, write_json, write_png
 
@@ -162,25 +163,31 @@ TIME_PANELS = (
 def time_figure(tables: Mapping[str, pd.DataFrame], title: str, smooth: int = 5) -> Figure:
     """One curve per run (``tables``: label -> learning table) against hours of learning, the
     axis a recipe's cost is counted on; each curve a rolling mean of ``smooth`` updates. A run
-    that did not log a panel's column is left out of that panel and named under it."""
-    figure = Figure(figsize=(4.3 * len(TIME_PANELS), 4.2), layout="constrained")
+    keeps its colour in every panel; the legend, under the panels, names the panels a run did
+    not log (an older run lacks the rates of episodes begun at rest)."""
+    figure = Figure(figsize=(4.3 * len(TIME_PANELS), 4.6), layout="constrained")
     figure.suptitle(title)
+    colours = {label: f"C{i % 10}" for i, label in enumerate(tables)}
+    missing: dict[str, list[str]] = {label: [] for label in tables}
     for axes, (column, name, unit) in zip(figure.subplots(1, len(TIME_PANELS)), TIME_PANELS,
                                           strict=True):  # fmt: skip
         axes.set(title=name, xlabel="hours of learning", ylabel=unit)
         axes.grid(alpha=0.3)
-        missing = []
         for label, table in tables.items():
             if not _logged(table, column):
-                missing.append(label)
+                missing[label].append(name.split(",")[0])
                 continue
             values = table[column].astype(float).rolling(smooth, min_periods=1).mean()
-            axes.plot(learning_seconds(table) / 3600.0, values, label=label)
-        if missing:
-            axes.set_xlabel("hours of learning\nnot logged: " + ", ".join(missing), fontsize=8)
-    drawn = [axes for axes in figure.axes if axes.lines]
-    if drawn:
-        drawn[0].legend(fontsize=8)
+            axes.plot(learning_seconds(table) / 3600.0, values, color=colours[label], label=label)
+    handles = [
+        Line2D([], [], color=colours[label],
+               label=label + (f" (not logged: {', '.join(missing[label])})" if missing[label]
+                              else ""))
+        for label in tables
+    ]  # fmt: skip
+    if handles:
+        figure.legend(handles=handles, loc="outside lower center", ncols=min(3, len(handles)),
+                      fontsize=8)  # fmt: skip
     return figure
 
 
