@@ -17,6 +17,7 @@ from ..plugins import (
     robot_plugin,
     robot_plugins,
 )
+from ..plugins.contract import trains_generalists
 from .identity import canonical, digest, plain
 
 if TYPE_CHECKING:
@@ -163,7 +164,8 @@ def resolved_cell(
 def leaderboard_cells(
     robots: Iterable[str] | None = None, humans: Iterable[str] | None = None, **options: Any
 ) -> list[Cell]:
-    """Every ok robot strategy × every ok human meant for it (trained for it, or generic).
+    """Every ok robot strategy × every ok human meant for it (trained for it, or generic);
+    a distribution of strategies (``contract.trains_generalists``) only when ``robots`` names it.
 
     A human is meant for a robot when its ``robot`` attribute names it; humans whose ``robot`` is
     None (the built-in baselines passive, random, reach, scripted) are generic and face every robot.
@@ -173,6 +175,8 @@ def leaderboard_cells(
     """
     robot_records, human_records = robot_plugins(), human_plugins()
     robot_names = _usable(robot_records, robots, "robot")
+    if robots is None:  # a distribution of strategies is scored only when asked for by name
+        robot_names = [n for n in robot_names if not trains_generalists(robot_records[n].factory)]
     policies, problems = _instances(human_records, _usable(human_records, humans, "human"))
     meant = {
         name: policy

@@ -32,6 +32,13 @@ def declared_actuation(human: Any) -> str:
     return getattr(human, "actuation", DEFAULT_ACTUATION)
 
 
+def trains_generalists(robot: Any) -> bool:
+    """Whether a robot strategy (a factory or an instance) declares ``generalist = True``: it
+    is a distribution of strategies, a human trained against it is meant for any strategy
+    (declares robot None), and a leaderboard scores it only when asked for by name."""
+    return getattr(robot, "generalist", False) is True
+
+
 def describe_human(human: Any, name: str | None = None) -> str:
     """A human in a message: ``"human 'NAME'"`` by its plugin or policy name, else its class."""
     name = name or getattr(human, "name", None)

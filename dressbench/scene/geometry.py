@@ -43,3 +43,13 @@ def rotation_z_to(direction: np.ndarray) -> np.ndarray:
         return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
     vx = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
     return np.eye(3) + vx + vx @ vx / (1.0 + c)
+
+
+def capsule_depth(points: np.ndarray, capsules: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """(P, C) how deep each point lies inside each capsule (segment ``capsules[c]``, radius
+    ``radii[c]``); negative outside."""
+    a, b = capsules[:, 0], capsules[:, 1]
+    ab = b - a
+    p = points[:, None, :]
+    t = np.clip(((p - a) * ab).sum(-1) / (ab * ab).sum(-1), 0.0, 1.0)
+    return radii - np.linalg.norm(p - (a + t[..., None] * ab), axis=-1)
