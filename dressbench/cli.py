@@ -201,6 +201,7 @@ def plugins(check: bool) -> None:
 @_option(TrainConfig, "actuation", recipe=True)
 @_option(TrainConfig, "action_std", recipe=True, type=click.FloatRange(min=0.0, min_open=True))
 @_option(TrainConfig, "haptics", recipe=True)
+@_option(TrainConfig, "init")
 def train(resume: bool, **options: Any) -> None:
     """Train a human model for a robot strategy (re-running resumes after a kill)."""
     require_train_extra()

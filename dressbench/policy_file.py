@@ -82,15 +82,17 @@ class TrainedPolicy:
         self.actuation: str = metadata.get("actuation", "pd")  # what its actions drive
         self.haptics: str = metadata.get("haptics", "newtons")  # how it reads the forces
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
+        self.layers = layers  # (weight, bias) of each linear layer; the last gives the actions
+        self.obs_mean = obs_mean  # the observation normalisation it was trained with
+        self.obs_var = obs_var
         self._hidden = layers[:-1]
         self._action_weight, self._action_bias = layers[-1]
-        self._obs_mean = obs_mean
         self._obs_std = np.sqrt(obs_var + epsilon)  # as VecNormalize divides
 
     @property
     def obs_dim(self) -> int:
         """The observation length the policy was trained on."""
-        return self._obs_mean.shape[0]
+        return self.obs_mean.shape[0]
 
     def reset(self, seed: int | None = None) -> None:
         """Nothing to do: the policy is deterministic and keeps no state between steps."""
@@ -104,7 +106,7 @@ class TrainedPolicy:
                 f"got {obs.shape}"
             )
         obs = scale_haptics(obs, self.ablation, self.haptics)
-        x = np.clip((obs - self._obs_mean) / self._obs_std, -self.clip_obs, self.clip_obs)
+        x = np.clip((obs - self.obs_mean) / self._obs_std, -self.clip_obs, self.clip_obs)
         for weight, bias in self._hidden:
             x = np.tanh(weight @ x + bias)
         return np.clip(self._action_weight @ x + self._action_bias, -1.0, 1.0)

@@ -1,5 +1,5 @@
-"""Shared fixtures: a folder on ``sys.path`` for fake plugin distributions, and a guard that
-no test writes among the shipped policies."""
+"""Shared fixtures: a folder on ``sys.path`` for fake plugin distributions, a policies folder
+of the test's own, and a guard that no test writes among the shipped policies."""
 
 import sys
 from collections.abc import Iterator
@@ -21,6 +21,17 @@ def site(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
     for name, module in list(sys.modules.items()):
         if str(getattr(module, "__file__", None) or "").startswith(str(root)):
             del sys.modules[name]
+    plugins.refresh()
+
+
+@pytest.fixture
+def policies_on_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Make the registry look for trained models in this test's ``policies`` folder only."""
+    (tmp_path / "policies").mkdir(exist_ok=True)
+    monkeypatch.setenv("DRESSBENCH_POLICIES", str(tmp_path / "policies"))
+    plugins.refresh()
+    yield
+    monkeypatch.delenv("DRESSBENCH_POLICIES")
     plugins.refresh()
 
 

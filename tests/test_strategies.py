@@ -177,6 +177,21 @@ def test_a_human_on_a_strategy_it_was_not_trained_for_is_left_out():
     assert list(strategy_table(episodes(scores), resamples=500)["robot"]) == ["fixed"]
 
 
+def test_a_generalists_seeds_score_every_strategy_as_a_group_of_their_own():
+    humans = {f"generalist-s{k}": human_group(f"generalist-s{k}", "fixed", "complete",
+                                              {"robot": None, "ablation": "complete", "seed": k})
+              for k in range(3)}  # fmt: skip
+    assert humans["generalist-s1"] == TrainedHuman(None, "generalist", "complete", 1)
+    rng = np.random.default_rng(0)
+    scores = {(robot, name): rng.normal(0.3, 0.05, 50)
+              for robot in ("fixed", "front_linear") for name in humans}  # fmt: skip
+    table = strategy_table(episodes(scores), humans, resamples=200)
+    assert sorted(table["robot"]) == ["fixed", "front_linear"]
+    assert set(table["recipe"]) == {"generalist"} and set(table["seeds"]) == {3}
+    named = trained_humans([(name, robot, "complete") for robot, name in scores])
+    assert named["generalist-s2"] == TrainedHuman(None, "generalist", "complete", 2)
+
+
 def test_tables_are_reproducible_and_a_row_does_not_depend_on_the_others():
     one = episodes(seeds_of("a", [0.4, 0.5]))
     both = pd.concat([one, episodes(seeds_of("b", [0.2, 0.3], rng=np.random.default_rng(5)))])

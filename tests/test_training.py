@@ -40,16 +40,6 @@ def tiny_config(tmp_path, **changes) -> TrainConfig:
     return TrainConfig(**(options | changes))
 
 
-@pytest.fixture
-def policies_on_path(tmp_path, monkeypatch):
-    """Make the registry look for trained models in this test's folder only."""
-    monkeypatch.setenv("DRESSBENCH_POLICIES", str(tmp_path / "policies"))
-    plugins.refresh()
-    yield
-    monkeypatch.delenv("DRESSBENCH_POLICIES")
-    plugins.refresh()
-
-
 def test_timesteps_are_honoured_as_given_not_rounded_up_to_a_whole_update(tmp_path):
     path = train(tiny_config(tmp_path, timesteps=200, name="exact"), progress=False)
     assert json.loads(path.read_text())["steps"] == 200  # updates are of 128 samples

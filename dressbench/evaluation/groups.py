@@ -15,7 +15,7 @@ from ..policy_file import PolicyFileError, load_policy
 class TrainedHuman:
     """A trained human as the strategy table counts it: its group and its training seed."""
 
-    robot: str  # the strategy it was trained for
+    robot: str | None  # the strategy it was trained for; None: any (a generalist)
     recipe: str
     ablation: str
     seed: int
@@ -33,7 +33,8 @@ def human_group(
     (a baseline such as ``passive``, or a name that says nothing of a seed).
 
     ``metadata`` is its policy file's (``TrainedPolicy.metadata``); without it (a name no longer
-    installed) ``robot`` and ``ablation`` are the episodes table's. From the metadata: ``robot``
+    installed) ``robot`` and ``ablation`` are the episodes table's. A generalist (``robot``
+    None: trained for any strategy) is a seed of its group on every strategy. From the metadata: ``robot``
     and ``ablation``; the seed is its ``seed``, else its run ``config``'s. The recipe, and a seed
     the metadata lacks, come from the name, spelled ROBOT[-ABLATION]-RECIPE-sSEED[-SUFFIXES]
     (``fixed-default-s1``: recipe ``default``; a sweep's ``fixed-complete-trpo-s0-timesteps1000``:
@@ -45,8 +46,6 @@ def human_group(
     config = (metadata or {}).get("config") or {}
     if metadata:
         robot, ablation = metadata["robot"], metadata["ablation"]
-    if robot is None:  # trained for any strategy: no strategy's seed
-        return None
     spelled = _NAME.fullmatch(_strip(_strip(name, robot), ablation))
     seed = (metadata or {}).get("seed", config.get("seed"))
     if seed is None and spelled:
@@ -67,10 +66,17 @@ def _strip(name: str, prefix: str) -> str:
 
 def trained_humans(humans: Iterable[tuple[str, str, str]]) -> dict[str, TrainedHuman]:
     """The group of each ``(name, robot, ablation)`` (an episodes table's) that is a seed of a
-    training: from its policy file when one is installed under that name, else from the name."""
+    training: from its policy file when one is installed under that name, else from the name
+    (a name scored on several strategies being a generalist's)."""
     plugins = human_plugins()
     found = {}
-    for name, robot, ablation in dict.fromkeys(humans):
+    humans = list(dict.fromkeys(humans))
+    robots: dict[str, set[str]] = {}
+    for name, robot, _ in humans:
+        robots.setdefault(name, set()).add(robot)
+    for name, robot, ablation in humans:
+        if len(robots[name]) > 1:  # scored on several strategies: a generalist
+            robot = None
         plugin = plugins.get(name)
         metadata = None
         if plugin is not None and plugin.ok and plugin.from_policy_file:

@@ -44,12 +44,14 @@ SCORES = [*STRATEGY_MEANS, *STAGE_COLUMNS]  # the episodes columns a strategy is
 def scored_episodes(
     episodes: pd.DataFrame, humans: Mapping[str, TrainedHuman] | None = None
 ) -> pd.DataFrame:
-    """The episodes of trained humans on the strategy they were trained for, with the ``recipe``
-    of their group and their ``training_seed``; ``humans`` default: ``trained_humans``."""
+    """The episodes of trained humans on the strategy they were trained for (a generalist's on
+    every strategy), with the ``recipe`` of their group and their ``training_seed``; ``humans``
+    default: ``trained_humans``."""
     if humans is None:
         humans = trained_humans(_named(episodes))
     known = episodes["human"].map(humans)
-    mine = known.notna() & (known.map(lambda h: getattr(h, "robot", None)) == episodes["robot"])
+    meant = known.map(lambda h: getattr(h, "robot", ""))  # None: a generalist, meant for any
+    mine = known.notna() & (meant.isna() | (meant == episodes["robot"]))
     return episodes[mine].assign(
         recipe=known[mine].map(lambda h: h.recipe),
         training_seed=known[mine].map(lambda h: h.seed),

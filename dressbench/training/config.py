@@ -97,6 +97,11 @@ class TrainConfig:
     policies: str = option("policies", "Where models go (a folder dressbench finds humans in).",
                            check_folder)  # fmt: skip
     name: str = option("", "Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).", check_name)
+    # a trained human to start from (training/init.py): with one, the recipe's curriculum and
+    # warm-up are off (a capable human needs neither), unless asked for
+    init: str | None = option(None, "Start from this trained human's weights and observation "
+                              "normalisation (a human's name); then no curriculum or warm-up "
+                              "unless asked for.", check_name)  # fmt: skip
 
     def __post_init__(self) -> None:
         if self.algo not in ALGORITHMS:
@@ -158,12 +163,15 @@ class TrainConfig:
         evaluation's gown (the default until the coarse training gown). "paper" is Clegg et al.'s
         published setting: TRPO, torque = action x 10 N m, 50,000-sample batches, forces in
         newtons, actions of std 1 at first, no curriculum, the whole reward from the first step,
-        on the evaluation's gown."""
+        on the evaluation's gown. A run that starts from a trained human (``init``) has no
+        curriculum or warm-up unless ``changes`` give them."""
         if recipe not in RECIPES:
             raise ValueError(f"unknown recipe {recipe!r}: choose one of {', '.join(RECIPES)}")
         base = {"recipe": recipe}
         if recipe in ("fine-gown", "paper"):
             base |= {"gown_vertices": EnvConfig.gown_vertices}
+        if changes.get("init"):
+            base |= {"curriculum": None, "warmup": None}
         if recipe == "paper":
             base |= {"algo": "trpo", "actuation": "torque", "samples_per_update": 50_000,
                      "haptics": "newtons", "norm_epsilon": 1e-8, "action_std": 1.0,

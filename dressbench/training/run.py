@@ -26,10 +26,12 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecNormalize
 
 from ..files import write_csv, write_json
+from ..policy_file import TrainedPolicy
 from ..provenance import git_commit, versions
 from .callbacks import Checkpoints, CurriculumLevels, Progress, StopAt, Warmup
 from .config import TrainConfig, option_changes
 from .curriculum import NearStarts
+from .init import parent_policy, parent_record, start_from
 from .lock import run_lock
 from .summary import learning_table, training_seconds, write_learning_table
 from .tear import TornGown
@@ -91,7 +93,12 @@ def _resumable(folder: Path) -> bool:
 
 def _record(folder: Path) -> dict:
     """The settings a run folder's run.json records (``TrainConfig.record()``)."""
-    return json.loads((folder / "run.json").read_text())["config"]
+    return _record_of(folder)["config"]
+
+
+def _record_of(folder: Path) -> dict:
+    """A run folder's run.json."""
+    return json.loads((folder / "run.json").read_text())
 
 
 class TrainingStopped(KeyboardInterrupt):
@@ -114,6 +121,7 @@ class TrainingRun:
         self.norm_path = self.folder / f"{CHECKPOINT}-normalization.pkl"
         self.state_path = self.folder / "checkpoint.json"
         self.learned_before = 0.0  # learning seconds of the sessions before this one
+        self.parent: TrainedPolicy | None = None  # the human a fresh run starts from
         self.curriculum: CurriculumLevels | None = None
         if config.curriculum is not None:
             reach = self._saved_state().get("curriculum_reach", config.curriculum.first_reach)
@@ -138,6 +146,8 @@ class TrainingRun:
         with run_lock(self.folder):
             try:
                 self._check_resumable()
+                if self.config.init and not self.model_path.exists():
+                    self.parent = parent_policy(self.config)
                 return self._run(progress)
             except Exception:
                 if created and not self.model_path.exists():
@@ -156,6 +166,10 @@ class TrainingRun:
 
     def _run(self, progress: bool) -> Path:
         run_json = {"config": self.config.record(), "versions": versions()}
+        if self.parent is not None:
+            run_json["parent"] = parent_record(self.parent)
+        elif self.config.init:  # resumed: as its first session recorded it
+            run_json["parent"] = _record_of(self.folder)["parent"]
         write_json(self.folder / "run.json", run_json)
         venv = self._envs()
         try:
@@ -247,7 +261,10 @@ class TrainingRun:
             kwargs |= {"target_kl": cfg.target_kl, "batch_size": 128}
         else:
             kwargs |= {"batch_size": 256, "n_epochs": 10}
-        return algorithm("MlpPolicy", venv, **kwargs), 0
+        model = algorithm("MlpPolicy", venv, **kwargs)
+        if self.parent is not None:
+            start_from(model, venv, self.parent)
+        return model, 0
 
     # ----------------------------------------------------------------------------- files
     def _archive_progress(self, done: int) -> None:
@@ -292,14 +309,16 @@ class TrainingRun:
     def export(self, model) -> Path:
         """The finished policy as safetensors + JSON in the policies folder; plugins are
         discovered again on next use, so that this process finds it by name."""
-        from ..plugins import refresh
+        from ..plugins import refresh, robot_plugin
+        from ..plugins.contract import trains_generalists
         from .export import save_policy
 
         cfg = self.config
         Path(cfg.policies).mkdir(parents=True, exist_ok=True)
+        generalist = trains_generalists(robot_plugin(cfg.robot).factory)
         metadata = {
             "name": cfg.run_name,
-            "robot": cfg.robot,
+            "robot": None if generalist else cfg.robot,  # a generalist is meant for any
             "ablation": cfg.ablation,
             "actuation": cfg.actuation,
             "haptics": cfg.haptics,
@@ -310,6 +329,8 @@ class TrainingRun:
             "git_commit": git_commit(),
             "config": cfg.record(),
         }
+        if cfg.init:
+            metadata["parent"] = _record_of(self.folder)["parent"]
         norm = model.get_vec_normalize_env()
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
                                    clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip
