@@ -37,11 +37,12 @@ def human_group(
     None: trained for any strategy) is a seed of its group on every strategy. From the
     metadata: ``robot`` and ``ablation``; the seed is its ``seed``, else its run ``config``'s.
     The recipe, and a seed the metadata lacks, come from the name, spelled
-    ROBOT[-ABLATION]-RECIPE-sSEED[-SUFFIXES] (``fixed-default-s1``: recipe ``default``; a sweep's ``fixed-complete-trpo-s0-timesteps1000``:
-    ``trpo-timesteps1000``). The name rather than the config's ``recipe``, which names only the
-    preset and whose settings change between versions: the older humans
-    ``fixed-complete-trpo-delta-curriculum-s*`` record ``default`` too, yet form their own group,
-    ``trpo-delta-curriculum``. A name not of that form takes the config's recipe.
+    ROBOT[-ABLATION]-RECIPE-sSEED[-SUFFIXES] (``fixed-default-s1``: recipe ``default``; a
+    sweep's ``fixed-complete-trpo-s0-timesteps1000``: ``trpo-timesteps1000``). The name rather
+    than the config's ``recipe``, which names only the preset and whose settings change between
+    versions: the older humans ``fixed-complete-trpo-delta-curriculum-s*`` record ``default``
+    too, yet form their own group, ``trpo-delta-curriculum``. A name not of that form takes the
+    config's recipe.
     """
     config = (metadata or {}).get("config") or {}
     if metadata:
