@@ -22,6 +22,7 @@ from .checks import check_episodes, check_folder, check_output_file, check_seed
 from .cluster import BACKENDS, ClusterError
 from .config import ANY_PROCESSES, EnvConfig
 from .plugins.registry import PluginError
+from .scoring import ScoreOptions
 from .training import require_train_extra
 from .training.bench import bench_rows
 from .training.config import RECIPES, TrainConfig
@@ -312,6 +313,33 @@ def leaderboard_command(workers, out, robots, humans, report, **options):
         from .evaluation.webpage import write_report
 
         click.echo(f"report in {write_report(out, workers=workers)}")
+
+
+@main.command()
+@click.option("--robot", required=True, help="The robot strategy to score.")
+@click.option("--from", "humans", multiple=True,
+              help="Only these generalists (repeatable; default: all installed).")  # fmt: skip
+@_fields(ScoreOptions, "minutes", "episodes", "out", "runs", "policies")
+@_options(_SEED_OPTION, _workers(), _GOWN, _HORIZON)
+def score(robot, humans, seed, workers, gown_vertices, horizon, **options) -> None:
+    """Score a robot strategy: fine-tune each generalist human on it (--minutes in all), then
+    evaluate each over seeded rollouts and write the strategy's row (docs/plugins.md)."""
+    from .scoring import score as run_score
+
+    if options["minutes"] > 0:
+        require_train_extra()
+    rows = run_score(robot, ScoreOptions(**options), humans=list(humans) or None,
+                     workers=workers, seed=seed, gown_vertices=gown_vertices,
+                     horizon=horizon)  # fmt: skip
+    minutes = rows.attrs["seconds"] / 60.0
+    for row in rows.itertuples():
+        click.echo(f"{robot} with {row.recipe} humans ({row.seeds} seeds, {row.episodes} "
+                   f"rollouts): final arm progress {row.final_arm_progress_mean:.3f} m "
+                   f"[{row.final_arm_progress_ci_low:.3f}, {row.final_arm_progress_ci_high:.3f}], "
+                   f"past the elbow {row.success_rate:.0%}, max deformation "
+                   f"{row.max_deformation_mean:.2f}")  # fmt: skip
+    click.echo(f"scored in {minutes:.1f} min; strategy table in "
+               f"{Path(options['out'], 'strategies.md')}")  # fmt: skip
 
 
 @evaluate.command("reproduce")

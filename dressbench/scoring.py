@@ -1,0 +1,123 @@
+"""Scoring a robot strategy the same afternoon: fine-tune each generalist seed on it within a time
+budget, evaluate every tuned seed, and write the strategy's row of the strategy table and its
+cells. ``score`` is what ``dressbench score`` runs; docs/plugins.md walks an author through it."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from .checks import check_folder
+from .config import AT_LEAST_ONE, option
+
+GENERALIST = "generalist"  # the recipe of the generalists' group: humans generalist-sSEED
+TUNED = f"{GENERALIST}-tuned"  # a strategy's humans fine-tuned from them: ROBOT-TUNED-sSEED
+
+
+def _check_minutes(value: float, name: str = "minutes") -> float:
+    if not value >= 0.0:
+        raise ValueError(f"{name} must be >= 0, got {value}")
+    return value
+
+
+@dataclass(frozen=True)
+class ScoreOptions:
+    """What ``dressbench score`` fine-tunes and evaluates (the command's options)."""
+
+    minutes: float = option(30.0, "Minutes of fine-tuning in all, shared among the generalist "
+                            "seeds (0: score them as they are).", _check_minutes)  # fmt: skip
+    episodes: int = option(100, "Rollouts per seed.", AT_LEAST_ONE)
+    out: str = option("results/score", "Folder of the score's files (cells and strategy row).",
+                      check_folder)  # fmt: skip
+    runs: str = option("runs", "Folder of the fine-tuning runs.", check_folder)
+    policies: str = option("policies", "Where the tuned humans go (a folder dressbench finds "
+                           "humans in).", check_folder)  # fmt: skip
+
+
+def generalists(names: list[str] | None = None) -> dict[str, int]:
+    """The installed generalist seeds (``GENERALIST`` group, trained for any strategy) by name,
+    with their training seed; ``names`` restricts them (each must be one)."""
+    from .evaluation.groups import trained_humans
+    from .plugins import human_plugins
+
+    found = {name: human for name, human in trained_humans(
+        (name, None, "complete") for name, plugin in human_plugins().items()
+        if plugin.ok and plugin.from_policy_file).items()
+        if human.robot is None and human.recipe == GENERALIST}  # fmt: skip
+    if names:
+        if unknown := [name for name in names if name not in found]:
+            raise ValueError(f"not a generalist human: {', '.join(unknown)} (have "
+                             f"{', '.join(sorted(found)) or 'none'})")  # fmt: skip
+        found = {name: found[name] for name in names}
+    if not found:
+        raise ValueError(f"no generalist human is installed: train one against the family "
+                         f"(dressbench train --robot family --name {GENERALIST}-s0; "
+                         f"docs/training.md)")  # fmt: skip
+    return {name: human.seed for name, human in sorted(found.items())}
+
+
+def score(
+    robot: str,
+    options: ScoreOptions | None = None,
+    *,
+    humans: list[str] | None = None,
+    workers: int | None = None,
+    seed: int = 0,
+    progress: bool = True,
+    **env_options: Any,
+) -> pd.DataFrame:
+    """Fine-tune each generalist seed (``humans``: these; default every installed one) on
+    ``robot`` for an equal share of ``options.minutes``, one after another on all cores, then
+    evaluate each tuned seed (each generalist as it is, for 0 minutes); return ``robot``'s rows
+    of the strategy table, also written to ``options.out``. A fine-tuning run resumes where an
+    interrupted one stopped; finished rollouts are reused. ``env_options`` go to the
+    evaluation's env (gown_vertices, horizon, ...); fine-tuning plays the same horizon on the
+    recipe's training gown. The tuned humans go to ``options.policies``, which must be a folder
+    dressbench finds humans in."""
+    from .evaluation import leaderboard
+    from .plugins import robot_plugin
+    from .plugins.registry import policy_folders
+
+    options = options or ScoreOptions()
+    robot_plugin(robot)  # an unknown strategy: one line, before anything runs
+    seeds = generalists(humans)
+    if options.minutes > 0.0 and Path(options.policies).resolve() not in [
+        folder.resolve() for folder in policy_folders()
+    ]:
+        raise ValueError(f"dressbench does not look for humans in {options.policies} (see "
+                         f"DRESSBENCH_POLICIES): the tuned humans could not be scored")  # fmt: skip
+    started = time.monotonic()
+    scored = list(seeds)
+    if options.minutes > 0.0:
+        minutes = options.minutes / len(seeds)
+        horizon = env_options.get("horizon")
+        scored = [_fine_tune(robot, name, seeds[name], minutes, options, progress, horizon)
+                  for name in seeds]  # fmt: skip
+    leaderboard(options.episodes, seed, workers, options.out, humans=scored, robots=[robot],
+                progress=progress, **env_options)  # fmt: skip
+    table = pd.read_csv(Path(options.out, "strategies.csv"))
+    rows = table[table["robot"] == robot].reset_index(drop=True)
+    rows.attrs["seconds"] = time.monotonic() - started
+    return rows
+
+
+def tuned_name(robot: str, seed: int) -> str:
+    """The name of ``robot``'s human fine-tuned from the generalist of ``seed``."""
+    return f"{robot}-{TUNED}-s{seed}"
+
+
+def _fine_tune(robot: str, parent: str, seed: int, minutes: float, options: ScoreOptions,
+               progress: bool, horizon: int | None) -> str:  # fmt: skip
+    """Fine-tune ``parent`` on ``robot`` for ``minutes`` of learning; the tuned human's name."""
+    from .training import train, train_config
+
+    name = tuned_name(robot, seed)
+    config = train_config(resume=True, robot=robot, init=parent, seed=seed, hours=minutes / 60.0,
+                          name=name, out=options.runs, policies=options.policies,
+                          horizon=horizon)  # fmt: skip
+    train(config, progress=progress)
+    return name
