@@ -20,7 +20,35 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.figure import Figure
 
-MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, metadata, plot)
+MAX_READ_BYTES = 64 << 20  # the most read of one results file (leaderboard, summary, plot)
+
+
+def readable(path: str | os.PathLike, limit: int | None = None) -> bool:
+    """Whether ``path`` is a regular file, not a link, of at most ``limit`` bytes (default
+    ``MAX_READ_BYTES``): one that a reader of untrusted files may open (a link could reach
+    anywhere, a device never end)."""
+    path, limit = Path(path), MAX_READ_BYTES if limit is None else limit
+    try:
+        return not path.is_symlink() and path.is_file() and path.stat().st_size <= limit
+    except OSError:
+        return False
+
+
+def read_untrusted(path: str | os.PathLike, what: str, limit: int | None = None) -> bytes:
+    """The bytes of ``path``, ``what`` the caller expects it to be (for the message): a
+    regular file, not a link, of at most ``limit`` bytes (default ``MAX_READ_BYTES``), read no
+    further than that; else a one-line ValueError naming the file."""
+    path, limit = Path(path), MAX_READ_BYTES if limit is None else limit
+    if path.is_symlink() or not path.is_file():
+        raise ValueError(f"{path}: not {what} (missing, a link or not a regular file)")
+    try:
+        with open(path, "rb") as file:
+            data = file.read(limit + 1)
+    except OSError as error:
+        raise ValueError(f"{path}: cannot be read ({error.strerror})") from None
+    if len(data) > limit:
+        raise ValueError(f"{path}: more than {limit:,} bytes; not {what}")
+    return data
 
 
 def write_bytes(path: str | os.PathLike, data: bytes) -> None:
@@ -93,6 +121,16 @@ def parse_json(text: str | bytes) -> Any:
         return json.loads(text)
     except RecursionError:
         raise ValueError("JSON nested too deeply") from None
+
+
+def read_json(path: str | os.PathLike, what: str) -> Any:
+    """The JSON document of ``path``, read as untrusted input (``read_untrusted``); a one-line
+    ValueError naming the file where it is not JSON."""
+    data = read_untrusted(path, what)
+    try:
+        return parse_json(data)
+    except ValueError as error:  # JSONDecodeError, UnicodeDecodeError, too deep
+        raise ValueError(f"{path}: not {what} (not JSON: {str(error).splitlines()[0]})") from None
 
 
 def slug(name: str) -> str:

@@ -19,7 +19,9 @@ from click.testing import CliRunner
 from fakes import install
 
 import dressbench
+from dressbench import files
 from dressbench.cli import main
+from dressbench.evaluation.readme import write_results_readme
 
 HOSTILE = Path(__file__).parent / "hostile_plugins"
 TINY = {"horizon": 3, "gown_vertices": 300, "progress": False}
@@ -202,6 +204,36 @@ def test_a_broken_results_file_is_one_line_naming_it(tmp_path, name, content, pr
     result = CliRunner().invoke(main, ["report", str(out), "--no-videos"])
     assert result.exit_code == 1 and "Traceback" not in result.output, result.output
     assert result.output.startswith(f"Error: {out / name}: {problem}"), result.output
+
+
+def test_a_results_file_linked_elsewhere_or_too_large_is_refused_without_being_read(
+    tmp_path, monkeypatch
+):
+    out = _results(tmp_path)
+    (out / "strategies.csv").unlink()
+    private = tmp_path / "private.csv"
+    private.write_text("robot\nsecret\n")
+    (out / "strategies.csv").symlink_to(private)
+    result = CliRunner().invoke(main, ["report", str(out), "--no-videos"])
+    assert result.output.startswith(
+        f"Error: {out / 'strategies.csv'}: not a results file "
+        f"(missing, a link or not a regular file)"
+    ), result.output
+    (out / "strategies.csv").unlink()
+    (out / "strategies.csv").write_text("robot\n" + "fixed\n" * 100)
+    monkeypatch.setattr(files, "MAX_READ_BYTES", 200)
+    result = CliRunner().invoke(main, ["report", str(out), "--no-videos"])
+    assert result.output.startswith(
+        f"Error: {out / 'leaderboard.csv'}: more than 200 bytes; not a results file"
+    ), result.output
+    assert not files.readable(out / "leaderboard.csv") and files.readable(out / "README.md", 10**6)
+
+
+def test_a_broken_run_record_beside_the_results_is_one_line_naming_it(tmp_path):
+    out = _results(tmp_path)
+    (out / "fixed-x-s0-run.json").write_text("{")
+    with pytest.raises(ValueError, match=r"fixed-x-s0-run\.json: not a run's record \(not JSON"):
+        write_results_readme(out)
 
 
 def test_a_deeply_nested_json_among_the_policies_is_refused_and_the_others_load(

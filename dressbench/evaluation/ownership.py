@@ -14,7 +14,7 @@ import fnmatch
 import os
 from pathlib import Path
 
-from ..files import MAX_READ_BYTES, parse_json, write_text
+from ..files import parse_json, read_untrusted, readable, write_text
 from .readme import FILES, MARKER, README
 from .store import ROLLOUTS
 
@@ -59,9 +59,9 @@ def _owned(folder: Path) -> bool:
 def _written_by_an_evaluation(meta: Path) -> bool:
     """Whether ``meta`` is a regular file that reads as the run_meta.json of an evaluation."""
     try:
-        if meta.is_symlink() or not meta.is_file() or meta.stat().st_size > MAX_READ_BYTES:
+        if not readable(meta):
             return False
-        data = parse_json(meta.read_bytes())
+        data = parse_json(read_untrusted(meta, "a run's metadata"))
     except (OSError, ValueError):
         return False
     return (

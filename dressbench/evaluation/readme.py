@@ -5,14 +5,14 @@ from the files."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
-from ..files import write_text
+from ..files import read_json, write_text
 
 README = "README.md"
 MARKER = ".dressbench-results"  # marks a folder as dressbench's results folder (ownership.py)
+_META = "an evaluation's run_meta.json"
 _WRITTEN = ("Written by dressbench from the files in this folder (`dressbench.evaluation.readme`) "
             "each time an evaluation writes to it.")  # fmt: skip
 
@@ -48,7 +48,7 @@ def results_readme(folder: str | Path) -> str:
     lines = [f"# {folder.name}", "", _WRITTEN, ""]
     meta_path = folder / "run_meta.json"
     if meta_path.exists():
-        lines += _evaluation(json.loads(meta_path.read_text()), folder)
+        lines += _evaluation(read_json(meta_path, _META), folder)
     summaries = sorted(folder.rglob("*-run.json"))
     if summaries:
         lines += ["## Learning summaries", "",
@@ -74,7 +74,7 @@ def results_readme(folder: str | Path) -> str:
     if nested:
         lines += ["## Other evaluations below this folder", ""]
         for sub in nested:
-            meta = json.loads((sub / "run_meta.json").read_text())
+            meta = read_json(sub / "run_meta.json", _META)
             lines.append(f"* `{sub.relative_to(folder).as_posix()}/`: {_cells(meta)}, "
                          f"`{command_line(meta)}` at {_commit(meta)}")  # fmt: skip
         lines.append("")
@@ -144,7 +144,7 @@ def _commit(meta: dict[str, Any]) -> str:
 
 
 def _summary_row(path: Path, folder: Path) -> str:
-    run = json.loads(path.read_text())
+    run = read_json(path, "a run's record")
     config, result = run["config"], run.get("result", {})
     hours = f"{result['training_seconds'] / 3600:.1f}" if "training_seconds" in result else "?"
     name = path.relative_to(folder).as_posix().removesuffix("-run.json")
@@ -155,8 +155,8 @@ def _summary_row(path: Path, folder: Path) -> str:
 
 
 def _checkpoint_line(run: Path, folder: Path) -> str:
-    config = json.loads((run / "run.json").read_text())["config"]
-    steps = json.loads((run / "checkpoint.json").read_text())["timesteps"]
+    config = read_json(run / "run.json", "a run's record")["config"]
+    steps = read_json(run / "checkpoint.json", "a checkpoint's marker")["timesteps"]
     return (f"* `{run.relative_to(folder).as_posix()}/`: {steps:,} of {config['timesteps']:,} "
             f"steps, `{_continue_command(config, run.name)}`")  # fmt: skip
 

@@ -10,6 +10,7 @@ skipped with a note on the page. See docs/evaluation.md, "The report".
 
 from __future__ import annotations
 
+import io
 import json
 import multiprocessing
 import os
@@ -22,7 +23,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..files import MAX_READ_BYTES, parse_json, slug, write_bytes, write_text
+from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .strategies import STRATEGY_CAPTION, score_text
@@ -61,7 +62,7 @@ def write_report(
         sub.mkdir(exist_ok=True)
     images = []
     for png in sorted(results.glob("*.png")):  # curves_<robot>.png, final_scores.png
-        if png.is_symlink() or not png.is_file() or png.stat().st_size > MAX_READ_BYTES:
+        if not readable(png):
             continue  # not ours: a link could widen a private file's mode or reach anywhere
         write_bytes(folder / "images" / png.name, png.read_bytes())
         if png.name != STRATEGY_FIGURE:  # shown with the strategy table
@@ -75,19 +76,18 @@ def write_report(
 
 
 def _read_results(results: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
-    """``leaderboard.csv`` and ``run_meta.json`` of a results folder, each a regular file of at
-    most ``MAX_READ_BYTES``; a ValueError naming the file when one is missing or unreadable."""
+    """``leaderboard.csv`` and ``run_meta.json`` of a results folder, each read as untrusted
+    input (``files.read_untrusted``); a ValueError naming the file when one is missing or
+    unreadable."""
     for name in ("leaderboard.csv", "run_meta.json"):
-        path = results / name
-        if not path.is_file() or path.is_symlink():
+        if not (results / name).is_file():
             raise ValueError(
                 f"{results}: no {name} (not a results folder; run dressbench evaluate first)"
             )
-        if path.stat().st_size > MAX_READ_BYTES:
-            raise ValueError(f"{path}: more than {MAX_READ_BYTES:,} bytes; not a results file")
     path = results / "leaderboard.csv"
+    data = read_untrusted(path, "a results file")
     try:
-        board = pd.read_csv(path)
+        board = pd.read_csv(io.BytesIO(data))
     except (ValueError, UnicodeDecodeError) as error:  # EmptyDataError, ParserError among them
         raise ValueError(f"{path}: not a leaderboard table ({_one_line(error)})") from None
     missing = [c for c in _NEEDED if c not in board.columns]
@@ -95,7 +95,7 @@ def _read_results(results: Path) -> tuple[pd.DataFrame, dict[str, Any]]:
         raise ValueError(f"{path}: not a leaderboard table (no column {', '.join(missing[:3])})")
     path = results / "run_meta.json"
     try:
-        meta = parse_json(path.read_bytes())
+        meta = parse_json(read_untrusted(path, "a results file"))
     except ValueError as error:  # JSONDecodeError, UnicodeDecodeError, too deep
         raise ValueError(f"{path}: not valid JSON ({_one_line(error)})") from None
     if not isinstance(meta, dict):
@@ -112,12 +112,11 @@ def strategy_section(results: Path) -> dict[str, Any] | None:
     """The strategy table (``strategies.csv``, read as untrusted input) as the page shows it
     first: its header, its rows as text and its figure; None where there is no table."""
     path = results / "strategies.csv"
-    if not path.is_file() or path.is_symlink():
+    if not path.is_file():
         return None
-    if path.stat().st_size > MAX_READ_BYTES:
-        raise ValueError(f"{path}: more than {MAX_READ_BYTES:,} bytes; not a results file")
+    data = read_untrusted(path, "a results file")
     try:
-        table = pd.read_csv(path, dtype={"note": str}).fillna({"note": ""})
+        table = pd.read_csv(io.BytesIO(data), dtype={"note": str}).fillna({"note": ""})
         rows = [
             [str(value) for value in (
                 r.rank, r.robot, r.recipe, r.ablation, r.seeds, r.episodes,
