@@ -1,6 +1,7 @@
 """The paper's comparison: verdicts read off the intervals, and the files `reproduce` writes."""
 
 import json
+from fnmatch import fnmatch
 from pathlib import Path
 
 import numpy as np
@@ -8,6 +9,7 @@ import pandas as pd
 import pytest
 
 from dressbench import plugins
+from dressbench.evaluation.readme import FILES, MARKER, README
 from dressbench.evaluation.reproduction import (
     DOC_BEGIN,
     DOC_END,
@@ -153,6 +155,9 @@ def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(co
     assert json.loads((out / "run_meta.json").read_text())["command"] == "reproduce"
     assert "dressbench evaluate reproduce --episodes 2" in (out / "README.md").read_text()
     assert "| no_task on fixed | none trained | 0 |" in (out / "roles.md").read_text()
+    known = {README, MARKER, *(name.replace("{robot}", "*") for name in FILES)}
+    unknown = [p.name for p in out.iterdir() if not any(fnmatch(p.name, k) for k in known)]
+    assert not unknown  # every file it writes is one the ownership check guards
 
 
 def test_a_docs_results_block_is_rewritten_from_the_csvs_and_the_rest_kept(compared, tmp_path):

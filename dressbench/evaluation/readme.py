@@ -31,6 +31,16 @@ FILES = {
     "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",
     "final_scores.png": "bars of final arm progress and max deformation per cell",
     "curves_{robot}.png": "arm progress and max deformation over the episode, one robot strategy",
+    "roles.csv": "the paper's comparison: each of its policies (robot, ablation) over the humans "
+    "that play it, with intervals over their seeds (`dressbench evaluate reproduce`)",
+    "roles.md": "the same, as a table",
+    "claims.csv": "each of the paper's claims, with its verdict and the numbers it rests on",
+    "claims.md": "the same, as a table",
+    "cross_play.csv": "each trained human on every strategy, the one it was trained for or not",
+    "cross_play.png": "the cross-play as a picture",
+    "fig5_fixed_ablations.png": "the paper's figure 5 redrawn: fixed, the ablations",
+    "fig6_final_scores.png": "the paper's figure 6 redrawn: final scores per policy",
+    "fig7_linear_strategies.png": "the paper's figure 7 redrawn: the linear strategies",
     "report": "a web page of the leaderboard with one rollout video per cell (`dressbench report`)",
     "cells": "one compact archive per finished cell (its identity, every episode's curves and "
     "scores): committed, so an evaluation on another machine reuses the cells instead of "
