@@ -6,7 +6,8 @@ import pytest
 from capsules import capsule_depth
 
 from dressbench.evaluation import leaderboard_cells
-from dressbench.factory import make_env
+from dressbench.factory import make_env, make_human_env
+from dressbench.metrics import feature_plane
 from dressbench.plugins import load_robot
 from dressbench.plugins.contract import start_pose_problem, trains_generalists
 from dressbench.plugins.family import KINDS, Family, cylindrical
@@ -14,6 +15,7 @@ from dressbench.plugins.protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED
 from dressbench.plugins.robots import LINEAR_DURATION
 from dressbench.scene.geometry import transform_points
 from dressbench.scene.world import Scene, SceneConfig
+from dressbench.training.curriculum import CurriculumConfig, NearStarts
 
 DRAWS = 400
 
@@ -142,3 +144,26 @@ def test_the_family_trains_generalists_and_is_scored_only_when_asked_for():
     asked = {cell.robot for cell in leaderboard_cells(["family"], ["passive"], gown_vertices=300)}
     assert "family" not in default and {"fixed", "front_linear"} <= default
     assert asked == {"family"}
+
+
+def test_the_curriculum_places_each_near_start_for_that_episodes_member():
+    """Near starts follow the member of each episode: along its first move where that brings the
+    opening onto the hand, along the opening's axis where it holds still; where the arm cannot
+    point exactly so (a member far to the side), nearly so."""
+    env = NearStarts(make_human_env("family", actuation="delta", gown_vertices=300),
+                     CurriculumConfig(share=1.0, held_share=1.0))  # fmt: skip
+    seen, alignment = set(), []
+    for seed in range(12):
+        _, info = env.reset(seed=seed)
+        move = env.unwrapped.robot_next_move()
+        scene = env.unwrapped.env.scene
+        tip, wrist = scene.human.arm_chain(scene.human.body_transforms())[:2]
+        plane = feature_plane(scene.cloth_positions()[scene.gown.feature_loop])
+        onto_hand = np.dot(move, plane.normal) < -1e-9
+        along = -move / np.linalg.norm(move) if onto_hand else plane.normal
+        alignment.append(np.dot((tip - wrist) / np.linalg.norm(tip - wrist), along))
+        assert 0.0 < info["near_start"] <= 0.05  # the first level
+        assert np.linalg.norm(plane.centroid - tip) < info["near_start"] + 0.05
+        seen.add(onto_hand)
+    assert seen == {True, False}  # members of both kinds in a dozen episodes
+    assert min(alignment) > 0.95 and np.median(alignment) > 0.999
