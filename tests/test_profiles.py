@@ -42,6 +42,7 @@ from dressbench.plugins.profiles import (
 from dressbench.preflight import profile_problem
 from dressbench.scene.body import BODY, DOF_NAMES, N_DOFS, body_limits, with_limits
 from dressbench.scene.human import Human, HumanConfig
+from dressbench.testing import check_profile_plugin
 from dressbench.training.config import TrainConfig
 
 SMALL = {"gown_vertices": 300}  # the checks' coarse gown: these are tests of the body
@@ -74,6 +75,20 @@ def test_the_built_in_profiles_are_listed_from_dressbench_and_pass_their_check()
         assert profile_problem(name) is None
     listed = {(row[0], row[1]) for row in plugin_rows()}
     assert {("profile", name) for name in BUILT_INS} <= listed
+
+
+@pytest.mark.parametrize("name", BUILT_INS)
+def test_the_built_in_profiles_pass_the_authors_check(name):
+    check_profile_plugin(name)
+
+
+def test_the_authors_check_names_an_unseeded_profile():
+    class Unseeded(Tremor):
+        def involuntary(self, rng, frames, dt):
+            return super().involuntary(np.random.default_rng(), frames, dt)
+
+    with pytest.raises(AssertionError, match="Unseeded: involuntary must draw only from the rng"):
+        check_profile_plugin(Unseeded())
 
 
 def test_every_env_is_typical_unless_told():
