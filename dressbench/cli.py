@@ -100,6 +100,11 @@ def _options(*options: Callable[..., Any]) -> Callable[..., Any]:
     return lambda command: functools.reduce(lambda c, option: option(c), reversed(options), command)
 
 
+def _stated(options: dict[str, Any]) -> dict[str, Any]:
+    """``options`` without a ``profile`` left out (None): each human then runs under its own."""
+    return {key: value for key, value in options.items() if key != "profile" or value is not None}
+
+
 def _episodes(**settings: Any):
     return click.option("--episodes", callback=_checked(check_episodes),
                         **{"default": 100, "show_default": True, **settings})  # fmt: skip
@@ -120,6 +125,10 @@ def _folder(default: str = "results", decl: str = "--out", **settings: Any):
 
 _SEED_OPTION = click.option("--seed", default=0, show_default=True, callback=_checked(check_seed))
 _GOWN = _option(EnvConfig, "gown_vertices")
+_PROFILE = _option(EnvConfig, "profile", default=None, show_default=False,
+                   help="The humans' capability profile (default: each human's own; typical "
+                        "for the untrained baselines). A human trained for another is refused "
+                        "(evaluate) or left out (leaderboard).")  # fmt: skip
 _HORIZON = _option(EnvConfig, "horizon")
 _BACKEND = _options(
     click.option("--backend", type=click.Choice(BACKENDS), default="local", show_default=True,
@@ -172,7 +181,8 @@ def calibrate(episodes: int) -> None:
 @main.command()
 @click.option("--check", is_flag=True, help="Also run each ok plugin once, as evaluations do.")
 def plugins(check: bool) -> None:
-    """List every robot strategy and human policy plugin, with its package and status.
+    """List every robot strategy, human policy and capability profile plugin, with its package
+    and status.
 
     "ok" means the plugin imports and has the protocol's methods and attributes; it is not run.
     With --check, each ok plugin also gets the preflight of evaluations (one reset and one act
@@ -185,7 +195,7 @@ def plugins(check: bool) -> None:
 
 
 @main.command()
-@_fields(TrainConfig, "robot", "algo", "ablation")
+@_fields(TrainConfig, "robot", "algo", "ablation", "profile")
 @_option(TrainConfig, "timesteps", recipe=True)
 @_option(TrainConfig, "hours", type=click.FloatRange(min=0.0, min_open=True))
 @_fields(TrainConfig, "envs", "envs_per_process", "seed")
@@ -274,7 +284,7 @@ def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, 
 @main.group(invoke_without_command=True)
 @click.option("--robot", help="Robot strategy.")
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
-@_options(_episodes(), _SEED_OPTION, _workers(), _GOWN)
+@_options(_episodes(), _SEED_OPTION, _workers(), _GOWN, _PROFILE)
 @_folder()
 @_EPISODE_TIMEOUT
 @_BACKEND
@@ -287,12 +297,13 @@ def evaluate(ctx: click.Context, robot, human, out, **options):
         raise click.UsageError("give --robot and --human, or use `dressbench evaluate leaderboard`")
     from .evaluation import evaluate as run_evaluation
 
-    run_evaluation(robot, human, out=out, **options)
+    run_evaluation(robot, human, out=out, **_stated(options))
     click.echo(f"results in {out} (episodes.csv, curves.csv, leaderboard.md, plots)")
 
 
 @evaluate.command("leaderboard")
 @_CELLS
+@_PROFILE
 @_folder()
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
@@ -307,7 +318,8 @@ def leaderboard_command(workers, out, robots, humans, report, **options):
     """
     from .evaluation import leaderboard
 
-    leaderboard(workers=workers, out=out, robots=robots or None, humans=humans or None, **options)
+    leaderboard(workers=workers, out=out, robots=robots or None, humans=humans or None,
+                **_stated(options))  # fmt: skip
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
     if report:
         from .evaluation.webpage import write_report

@@ -14,6 +14,7 @@ from typing import Any
 from .checks import check_device, check_gown_vertices, check_horizon, check_int, check_processes
 from .metrics import deformation_limit
 from .observation import ABLATIONS, check_ablation
+from .plugins.protocols import TYPICAL_PROFILE
 from .scene.clock import POLICY_DT
 from .scene.garment import GownConfig
 from .scene.world import SceneConfig
@@ -89,10 +90,14 @@ class RewardConfig:
 
 @dataclass(frozen=True)
 class EnvConfig(SceneOptions):
-    """Everything an environment needs besides the robot strategy: the scene options
-    (``gown_vertices``, ``device``) and these."""
+    """Everything an environment needs besides the robot strategy and the capability profile's
+    plugin: the scene options (``gown_vertices``, ``device``) and these."""
 
     ablation: str = option("complete", "What the human senses.", choices=ABLATIONS)
+    # a capability profile plugin's name: the human's body (ranges, strength, involuntary
+    # motion); the env asks the plugin for it (factory.make_env)
+    profile: str = option(TYPICAL_PROFILE, "The human's capability profile (dressbench "
+                          "plugins lists them).")  # fmt: skip
     horizon: int = option(400, "Policy steps per episode (16 s).", check_horizon)
     reward: RewardConfig = field(default_factory=RewardConfig)
     scene: SceneConfig = field(default_factory=SceneConfig)

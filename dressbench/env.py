@@ -20,13 +20,23 @@ from .metrics import deformation_reward, geodesic_contact_reward, upright_reward
 from .observation import human_observation, observation_size
 from .plugins.contract import (
     WORKSPACE,
+    describe_profile,
     describe_robot,
+    involuntary_problem,
     missing_members,
+    profile_limits_problem,
     start_pose_problem,
     step_action_problem,
 )
-from .plugins.protocols import HUMAN_ACTION_SIZE, ROBOT_ACTION_SIZE, ROBOT_DT, ROBOT_MAX_SPEED
-from .scene.world import Scene
+from .plugins.protocols import (
+    HUMAN_ACTION_SIZE,
+    ROBOT_ACTION_SIZE,
+    ROBOT_DT,
+    ROBOT_MAX_SPEED,
+    TYPICAL_PROFILE,
+)
+from .scene.body import body_limits
+from .scene.world import Scene, SceneConfig, limited_scene
 from .state import DressingState, measure
 
 HUMAN, ROBOT = "human", "robot"
@@ -35,7 +45,9 @@ FAILURE_STEP_REWARD = -17.0  # per remaining step: fingertip 1 m off, deformatio
 
 
 class DressingEnv(ParallelEnv):
-    """Robot-assisted dressing with a robot strategy and a human to be trained."""
+    """Robot-assisted dressing with a robot strategy and a human to be trained, whose body is
+    that of the capability profile ``profile`` (an instance of the plugin ``config.profile``
+    names; None: the typical body, unchanged)."""
 
     metadata = {
         "name": "dressbench_v0",
@@ -51,6 +63,8 @@ class DressingEnv(ParallelEnv):
         *,
         robot_name: str | None = None,
         robot_origin: str | None = None,
+        profile: Any | None = None,
+        profile_origin: str | None = None,
     ) -> None:
         if missing_members(robot):
             raise TypeError(
@@ -66,7 +80,9 @@ class DressingEnv(ParallelEnv):
         self.render_mode = render_mode
         self.possible_agents = [ROBOT, HUMAN]
         self.agents: list[str] = []
-        self.scene = Scene(self.config.scene_config())
+        self.profile = profile
+        self.profile_origin = profile_origin  # the package that provides it: for messages
+        self.scene = Scene(self._profiled(self.config.scene_config()))
         self._rng = np.random.default_rng()
         self._renderer = None
         self._obs: dict[str, np.ndarray] = {}
@@ -96,12 +112,13 @@ class DressingEnv(ParallelEnv):
             robot = describe_robot(self.robot_strategy, self.robot_name, self.robot_origin)
             raise ValueError(f"{robot}: {problem}")
         pose = np.asarray(pose, dtype=float)
-        self.scene.reset(pose)
+        motion = self._involuntary()
+        self.scene.reset(pose, involuntary=motion)
         human_start = (options or {}).get("human_start")
         if human_start is not None:
             q = human_start(self.scene)
             if q is not None:
-                self.scene.reset(pose, human_q=q)
+                self.scene.reset(pose, human_q=q, involuntary=motion)
         self.agents = list(self.possible_agents)
         self._t = 0
         self._gripper_velocity = np.zeros(3)
@@ -158,6 +175,37 @@ class DressingEnv(ParallelEnv):
         if terminated or truncated:
             self.agents = []
         return observations, rewards, terminations, truncations, infos
+
+    # ----------------------------------------------------------------------------- profile
+    def _profiled(self, scene: SceneConfig) -> SceneConfig:
+        """``scene`` with the human's ranges and torque caps those of the profile's body."""
+        if self.profile is None:
+            if self.config.profile != TYPICAL_PROFILE:
+                raise ValueError(
+                    f"the env's profile is {self.config.profile!r}, but no instance of it was "
+                    "given: make the env with dressbench.make_env, which loads the plugin"
+                )
+            return scene
+        typical = body_limits(scene.human.specs)
+        limits = self.profile.body(typical)
+        self._require(profile_limits_problem(limits, typical))
+        return limited_scene(limits, scene)
+
+    def _involuntary(self) -> np.ndarray | None:
+        """The episode's involuntary joint accelerations, drawn by the profile from the env's
+        generator (after the robot strategy's draws), or None."""
+        if self.profile is None:
+            return None
+        frames = self.config.horizon * self.scene.config.frame_skip
+        motion = self.profile.involuntary(self._rng, frames, self.scene.config.dt)
+        self._require(involuntary_problem(motion, frames))
+        return None if motion is None else np.asarray(motion, dtype=float)
+
+    def _require(self, problem: str | None) -> None:
+        """Raise the profile's contract ``problem``, if any, as a ValueError naming it."""
+        if problem:
+            raise ValueError(f"{describe_profile(self.config.profile, self.profile_origin)}: "
+                             f"{problem}")  # fmt: skip
 
     # ----------------------------------------------------------------------------- reward
     def reward_terms(self, state: DressingState) -> dict[str, float]:

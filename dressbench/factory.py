@@ -1,6 +1,6 @@
 """Making environments: the two-agent PettingZoo env and the human's gymnasium env, for a robot
-strategy (a plugin name, its record or an instance) and, given one, the human that will act in
-it. Nothing heavy loads until one is made."""
+strategy (a plugin name, its record or an instance), the capability profile the options name and,
+given one, the human that will act in it. Nothing heavy loads until one is made."""
 
 from __future__ import annotations
 
@@ -24,15 +24,19 @@ def make_env(
     """The two-agent PettingZoo environment for a robot strategy and, given ``human`` (a human
     plugin's name or a policy), the setting that human was made for (``env_options``).
 
-    ``options`` override fields of ``EnvConfig``: ablation, horizon, gown_vertices, device,
-    reward, scene; ``actuation`` says how the human's actions drive its joints.
+    ``options`` override fields of ``EnvConfig``: ablation, profile, horizon, gown_vertices,
+    device, reward, scene; ``actuation`` says how the human's actions drive its joints. The
+    profile's plugin is loaded here and gives the env the human's body.
     """
     from .config import EnvConfig
     from .env import DressingEnv
+    from .plugins import profile_plugin
 
     strategy, name, origin = _robot(robot)
     config = EnvConfig.build(config, **env_options(human, config, **options))
-    return DressingEnv(strategy, config, render_mode, robot_name=name, robot_origin=origin)
+    profile = profile_plugin(config.profile)
+    return DressingEnv(strategy, config, render_mode, robot_name=name, robot_origin=origin,
+                       profile=profile.factory(), profile_origin=profile.origin)  # fmt: skip
 
 
 def parallel_env(
@@ -68,9 +72,10 @@ def env_options(
 ) -> dict[str, Any]:
     """The ``EnvConfig`` options of an env: ``options`` with ``actuation`` (how the human's
     actions drive its joints) put into the scene, and given ``human`` (a name or a policy) its
-    own ablation and actuation. An ablation or actuation the caller states (in ``options``,
-    its ``scene`` or ``config``) other than the human's is a one-line ValueError naming both."""
-    from .plugins.contract import declared_actuation, pairing_problem
+    own ablation, actuation and capability profile (unless it runs under any). An ablation,
+    actuation or profile the caller states (in ``options``, its ``scene`` or ``config``) other
+    than the human's is a one-line ValueError naming both."""
+    from .plugins.contract import declared_actuation, declared_profile, pairing_problem
     from .scene.world import actuated_scene
 
     actuation = options.pop("actuation", None)
@@ -80,10 +85,13 @@ def env_options(
         policy = _human(human)
         stated = actuation or (scene.human.actuation if scene is not None else None)
         ablation = options.get("ablation", config.ablation if config else None)
-        problem = pairing_problem(policy, ablation, stated, name)
+        profile = options.get("profile", config.profile if config else None)
+        problem = pairing_problem(policy, ablation, stated, name, profile)
         if problem:
             raise ValueError(problem)
         options["ablation"], actuation = policy.ablation, declared_actuation(policy)
+        if declared_profile(policy) is not None:
+            options["profile"] = declared_profile(policy)
     if actuation is not None:
         options["scene"] = actuated_scene(actuation, scene)
     return options

@@ -27,7 +27,7 @@ from safetensors import SafetensorError
 
 from .files import parse_json
 from .observation import HAPTIC_SCALES, scale_haptics
-from .plugins.protocols import HUMAN_ACTION_SIZE
+from .plugins.protocols import HUMAN_ACTION_SIZE, TYPICAL_PROFILE
 from .scene.actuation import ACTUATIONS
 
 if TYPE_CHECKING:
@@ -80,6 +80,7 @@ class TrainedPolicy:
         self.robot: str | None = metadata["robot"]
         self.ablation: str = metadata["ablation"]
         self.actuation: str = metadata.get("actuation", "pd")  # what its actions drive
+        self.profile: str = metadata.get("profile", TYPICAL_PROFILE)  # the body it learned in
         self.haptics: str = metadata.get("haptics", "newtons")  # how it reads the forces
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
         self.layers = layers  # (weight, bias) of each linear layer; the last gives the actions
@@ -367,6 +368,7 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
 _OPTIONAL_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("haptics",), lambda v: v in HAPTIC_SCALES, " or ".join(map(repr, HAPTIC_SCALES))),
     (("actuation",), lambda v: v in ACTUATIONS, " or ".join(map(repr, ACTUATIONS))),
+    (("profile",), lambda v: isinstance(v, str), "a capability profile's name"),
 )
 
 

@@ -1,5 +1,6 @@
 """What a plugin must pass before an evaluation runs it: one ``reset`` and one ``act`` in a real
-(small) env, and what a human declares against the observation it will get.
+(small) env, what a human declares against the observation it will get, and a capability
+profile's body and involuntary motion.
 
 ``dressbench plugins`` only checks that a plugin imports and has the protocol's names; a robot
 whose ``reset`` returns a (6,) pose, or a policy file whose ``obs_dim`` contradicts its
@@ -23,11 +24,15 @@ from .plugins.contract import (
     CHECK_VERTICES,
     human_action_problem,
     human_declaration_problem,
+    involuntary_problem,
+    profile_limits_problem,
     robot_action_problem,
     start_pose_problem,
 )
 from .plugins.protocols import HUMAN_ACTION_SIZE
-from .plugins.registry import _one_line
+from .plugins.registry import PluginError, _one_line, profile_plugin
+from .scene.body import body_limits
+from .scene.clock import FRAME_SKIP, SIM_DT
 
 if TYPE_CHECKING:
     from .plugins import Plugin
@@ -95,6 +100,25 @@ def human_problem(policy: Any, observation: np.ndarray) -> str | None:
             f"{_one_line(exc)}"
         )
     return human_action_problem(action)
+
+
+def profile_problem(name: str) -> str | None:
+    """Why the capability profile ``name`` cannot be run, or None: it resolves to a working
+    plugin (else its ``PluginError``'s line), and a fresh instance's body for the typical one and
+    its involuntary motion for a short episode keep the contract."""
+    try:
+        profile = profile_plugin(name).factory()
+        typical = body_limits()
+        problem = profile_limits_problem(profile.body(typical), typical)
+        if problem:
+            return problem
+        frames = CHECK_HORIZON * FRAME_SKIP
+        motion = profile.involuntary(np.random.default_rng(CHECK_SEED), frames, SIM_DT)
+        return involuntary_problem(motion, frames)
+    except PluginError as exc:
+        return str(exc)
+    except Exception as exc:  # a plugin may raise anything; say what, in one line
+        return f"its check (its body and one episode's motion) failed: {_one_line(exc)}"
 
 
 class Observations:

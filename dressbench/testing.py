@@ -1,8 +1,10 @@
-"""Checks for plugin authors: does a robot strategy or human policy keep the protocol?
+"""Checks for plugin authors: does a robot strategy, human policy or capability profile keep the
+protocol?
 
-    from dressbench.testing import check_robot_plugin, check_human_plugin
+    from dressbench.testing import check_human_plugin, check_profile_plugin, check_robot_plugin
     check_robot_plugin("my_robot")        # a registered name, or an instance
     check_human_plugin(MyHuman())
+    check_profile_plugin("my_profile")
 
 Each runs the plugin in a small real environment and raises ``AssertionError`` with a message
 that says what is wrong: the contract's own (``dressbench.plugins.contract``).
@@ -14,16 +16,27 @@ from typing import Any
 
 import numpy as np
 
-from .plugins import HUMAN_API_VERSION, ROBOT_API_VERSION, load_human, load_robot
+from .plugins import (
+    HUMAN_API_VERSION,
+    PROFILE_API_VERSION,
+    ROBOT_API_VERSION,
+    load_human,
+    load_profile,
+    load_robot,
+)
 from .plugins.contract import (
     CHECK_VERTICES,
     api_version_problem,
     human_action_problem,
     human_declaration_problem,
+    involuntary_problem,
+    profile_limits_problem,
     robot_action_problem,
     start_pose_problem,
 )
 from .plugins.protocols import HUMAN_ACTION_SIZE
+from .scene.body import body_limits
+from .scene.clock import FRAME_SKIP, SIM_DT
 
 CHECK_STEPS = 10
 
@@ -69,6 +82,31 @@ def check_human_plugin(human: str | Any, robot: str = "fixed", steps: int = CHEC
         action = policy.act(observation)
         _require(name, human_action_problem(action))
         observation, *_ = env.step(action)
+
+
+def check_profile_plugin(profile: str | Any, steps: int = CHECK_STEPS) -> None:
+    """A body within the typical one, finite involuntary motion of the episode's shape that one
+    seed repeats, and a small env with that body running ``steps`` steps."""
+    from .config import EnvConfig
+    from .env import HUMAN, ROBOT, DressingEnv
+    from .plugins.robots import FixedGown
+
+    name = profile if isinstance(profile, str) else type(profile).__name__
+    instance = load_profile(profile) if isinstance(profile, str) else profile
+    _require(name, api_version_problem(instance, PROFILE_API_VERSION))
+    typical = body_limits()
+    _require(name, profile_limits_problem(instance.body(typical), typical))
+    frames = steps * FRAME_SKIP
+    motions = [instance.involuntary(np.random.default_rng(0), frames, SIM_DT) for _ in range(2)]
+    _require(name, involuntary_problem(motions[0], frames))
+    seeded = (motions[0] is None) == (motions[1] is None) and np.array_equal(*motions)
+    _require(name, None if seeded else "involuntary must draw only from the rng it is given: "
+                                       "one seed gave two motions")  # fmt: skip
+    config = EnvConfig(gown_vertices=CHECK_VERTICES, horizon=steps, profile=name)
+    env = DressingEnv(FixedGown(), config, profile=instance)
+    env.reset(seed=0)
+    for _ in range(steps):
+        env.step({ROBOT: np.zeros(3), HUMAN: np.zeros(HUMAN_ACTION_SIZE)})
 
 
 def _require(name: str, problem: str | None) -> None:

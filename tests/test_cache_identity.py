@@ -105,6 +105,7 @@ def test_a_record_carries_its_full_identity(tmp_path, policies):
     assert first.parent.name.startswith("fixed__pol_x-") and first.name == "seed0-episode00000.json"
     identity = json.loads(first.read_text())["identity"]
     config = asdict(EnvConfig.build(horizon=4, gown_vertices=300, ablation="complete"))
+    del config["profile"]  # the typical body: as in every record made before profiles
     assert identity == {
         "robot": {"name": "fixed", "distribution": "dressbench", "version": DRESSBENCH},
         "human": {

@@ -300,7 +300,8 @@ def test_leaderboard_writes_one_row_per_cell(tmp_path):
     ]
     assert len(pd.read_csv(tmp_path / "episodes.csv")) == 4
     assert len(pd.read_csv(tmp_path / "curves.csv")) == 2 * 10
-    assert "| fixed | random | complete | 2 |" in (tmp_path / "leaderboard.md").read_text()
+    board_text = (tmp_path / "leaderboard.md").read_text()
+    assert "| fixed | random | complete | typical | 2 |" in board_text
     assert (tmp_path / "curves_fixed.png").stat().st_size > 0
 
 

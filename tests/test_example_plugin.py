@@ -11,6 +11,8 @@ from dressbench import plugins
 from dressbench.env import HUMAN, ROBOT
 from dressbench.observation import N_DOFS
 from dressbench.plugins.robots import RIGHT_SHOULDER, ROBOT_DT
+from dressbench.preflight import profile_problem
+from dressbench.scene.body import DOF_NAMES
 from dressbench.testing import check_human_plugin, check_robot_plugin
 
 SMALL = {"gown_vertices": 600}  # fast tests: a coarse gown
@@ -21,7 +23,11 @@ REACH = slice(3 * N_DOFS + 3, 3 * N_DOFS + 6)  # fingertip - armhole centre, hum
 
 @pytest.mark.parametrize(
     "records, name",
-    [(plugins.robot_plugins, "arc"), (plugins.human_plugins, "follow_task")],
+    [
+        (plugins.robot_plugins, "arc"),
+        (plugins.human_plugins, "follow_task"),
+        (plugins.profile_plugins, "stiff_elbow"),
+    ],
 )
 def test_dressbench_finds_the_example_through_its_entry_points(records, name):
     found = records()
@@ -34,6 +40,17 @@ def test_dressbench_finds_the_example_through_its_entry_points(records, name):
 def test_the_example_passes_the_plugin_checks_the_readme_shows():
     check_robot_plugin("arc")
     check_human_plugin("follow_task")
+
+
+def test_the_example_profile_passes_its_check_and_stiffens_the_elbow():
+    assert profile_problem("stiff_elbow") is None
+    env = dressbench.make_env("fixed", profile="stiff_elbow", horizon=40, **SMALL)
+    elbow = DOF_NAMES.index("elbow_r_flexion")
+    assert env.scene.human.upper[elbow] == np.pi / 2
+    env.reset(seed=0)
+    for _ in range(40):  # the largest flexion the PD can ask for
+        env.step({ROBOT: np.zeros(3), HUMAN: np.ones(11)})
+        assert env.scene.human.q[elbow] < np.pi / 2 + 0.1
 
 
 def test_arc_initial_poses_are_seeded():

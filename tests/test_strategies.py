@@ -26,7 +26,8 @@ from dressbench.policy_file import load_policy
 def episodes(scores: dict[tuple[str, str], np.ndarray], ablation: str = "complete") -> pd.DataFrame:
     """An episodes table: each (robot, human) with its final arm progress values."""
     rows = [
-        {"robot": robot, "human": human, "ablation": ablation, "horizon": 400,
+        {"robot": robot, "human": human, "ablation": ablation, "profile": "typical",
+         "horizon": 400,
          "gown_vertices": 2000, "device": "cpu", "config_id": f"cfg-{ablation}", "seed": 0,
          "episode": i, "episode_seed": i, "final_arm_progress": value,
          "max_deformation": 1.5 + value, "hand_in": value >= 0.18, "success": value >= 0.44,
@@ -88,8 +89,8 @@ def test_installed_policies_group_the_shipped_humans():
                             ("front_linear-default-s0", "front_linear", "complete"),
                             ("scripted", "fixed", "complete")])  # fmt: skip
     assert {name: human.group for name, human in found.items()} == {
-        "fixed-default-s0": ("fixed", "default", "complete"),
-        "front_linear-default-s0": ("front_linear", "default", "complete"),
+        "fixed-default-s0": ("fixed", "default", "complete", "typical"),
+        "front_linear-default-s0": ("front_linear", "default", "complete", "typical"),
     }
 
 
@@ -231,10 +232,10 @@ def test_the_files_are_written_beside_the_cell_table(tmp_path):
     table = pd.read_csv(tmp_path / "strategies.csv")
     assert list(table["robot"]) == ["front_linear", "fixed"]
     markdown = (tmp_path / "strategies.md").read_text()
-    assert "| fixed | default | complete | 3 | 300 |" in markdown and ONE_SEED in markdown
-    assert (
-        "| front_linear | fixed | default | complete |" in (tmp_path / "improvement.md").read_text()
-    )
+    assert "| fixed | default | complete | typical | 3 | 300 |" in markdown
+    assert ONE_SEED in markdown
+    improvements = (tmp_path / "improvement.md").read_text()
+    assert "| front_linear | fixed | default | complete | typical |" in improvements
     assert len(pd.read_csv(tmp_path / "improvement.csv")) == 1
     assert (tmp_path / "strategies.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

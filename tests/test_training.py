@@ -408,6 +408,18 @@ def test_a_stopped_training_saves_its_checkpoint_where_it_stopped_and_says_so(tm
     assert "Traceback" not in errors
 
 
+def test_a_human_trained_in_a_profile_runs_only_under_it(tmp_path, policies_on_path):
+    path = train(tiny_config(tmp_path, timesteps=64, name="trembler", profile="tremor"),
+                 progress=False)  # fmt: skip
+    assert json.loads(path.read_text())["profile"] == "tremor"
+    run = json.loads((tmp_path / "runs" / "trembler" / "run.json").read_text())
+    assert run["config"]["profile"] == "tremor"
+    plugins.refresh()
+    assert make_cell("fixed", "trembler", gown_vertices=600, horizon=8).config().profile == "tremor"
+    with pytest.raises(ValueError, match="trained for capability profile 'tremor'"):
+        make_cell("fixed", "trembler", profile="typical", gown_vertices=600, horizon=8)
+
+
 def test_a_human_trained_to_move_its_targets_is_scored_moving_them(tmp_path, policies_on_path):
     path = train(tiny_config(tmp_path, timesteps=64, name="mover", actuation="delta"),
                  progress=False)  # fmt: skip

@@ -74,6 +74,8 @@ def test_the_wheel_ships_the_trained_humans_and_evaluates_them_without_torch(use
     line = next(row for row in listing.splitlines() if f" {SHIPPED} " in row)
     assert line.rstrip().endswith("ok") and "site-packages" in line, listing
     assert str(ROOT) not in listing
+    profiles = {row.split()[1] for row in listing.splitlines() if row.startswith("profile ")}
+    assert {"typical", "limited_shoulder", "weak_arm", "tremor"} <= profiles, listing
 
     code = (
         "import json, sys\n"

@@ -1,4 +1,5 @@
-"""Leaderboard cells: a robot strategy × a human model, with the env options they run under."""
+"""Leaderboard cells: a robot strategy × a human model, with the env options they run under (the
+capability profile among them)."""
 
 from __future__ import annotations
 
@@ -10,10 +11,12 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from ..plugins import (
+    TYPICAL_PROFILE,
     Plugin,
     human_plugin,
     human_plugins,
     human_providers,
+    profile_plugin,
     robot_plugin,
     robot_plugins,
 )
@@ -29,11 +32,11 @@ if TYPE_CHECKING:
 class Cell:
     """A robot strategy and a human model, and the ``make_human_env`` options of their episodes.
 
-    ``options`` always holds the human's own ablation and actuation: a policy is scored in the
-    setting it was trained for. ``plugins`` holds what the names stood for when the cell was
-    made (``plugin_identities``), and ``records`` the plugins they were resolved to, so that
-    workers make instances without looking them up again; a cell made by hand gets both from
-    the registry on first use.
+    ``options`` always holds the human's own ablation and actuation, and its capability profile
+    unless it runs under any: a policy is scored in the setting it was trained for. ``plugins``
+    holds what the names stood for when the cell was made (``plugin_identities``), and
+    ``records`` the plugins they were resolved to, so that workers make instances without
+    looking them up again; a cell made by hand gets both from the registry on first use.
     """
 
     robot: str
@@ -52,6 +55,11 @@ class Cell:
         """The ablation the env runs with (the human's)."""
         return self.options["ablation"]
 
+    @property
+    def profile(self) -> str:
+        """The capability profile the human's body has."""
+        return self.columns["profile"]
+
     def config(self) -> EnvConfig:
         """The full env configuration, defaults resolved."""
         from ..config import EnvConfig  # here: importing it loads the physics
@@ -66,6 +74,7 @@ class Cell:
             "robot": self.robot,
             "human": self.human,
             "ablation": config.ablation,
+            "profile": config.profile,
             "horizon": config.horizon,
             "gown_vertices": config.gown_vertices,
             "device": config.device,
@@ -75,7 +84,8 @@ class Cell:
     @cached_property
     def identity(self) -> dict[str, Any]:
         """What the cell's rollouts belong to, as JSON values: the robot's and the human's
-        identities (``plugin_identities``) and the full env configuration (``config_fields``).
+        identities (``plugin_identities``), the capability profile's (``profile_identity``) and
+        the full env configuration (``config_fields``).
 
         A record is reused only by a cell of the same identity; its folder is named by its hash.
         """
@@ -83,7 +93,9 @@ class Cell:
         if plugins is None:
             robot, human = self.resolved()
             plugins = plugin_identities(robot, human, human.factory())
-        return plain({**plugins, "config": config_fields(self.config())})
+        config = self.config()
+        return plain({**plugins, **profile_identity(config.profile),
+                      "config": config_fields(config)})  # fmt: skip
 
     @cached_property
     def key(self) -> str:
@@ -92,8 +104,13 @@ class Cell:
 
 
 def config_fields(config: EnvConfig) -> dict[str, Any]:
-    """Every field of an env configuration, nested dataclasses included, as JSON values."""
-    return plain(asdict(config))
+    """Every field of an env configuration, nested dataclasses included, as JSON values; the
+    profile only when it is not the typical body, whose episodes are those of every
+    configuration made before profiles: their identities, caches and config ids stay valid."""
+    fields = plain(asdict(config))
+    if config.profile == TYPICAL_PROFILE:
+        del fields["profile"]
+    return fields
 
 
 def config_id(config: EnvConfig) -> str:
@@ -129,6 +146,16 @@ def human_identity(plugin: Plugin, policy: HumanPolicy) -> dict[str, Any]:
             "obs_normalization": {"clip_obs": policy.clip_obs, "epsilon": policy.epsilon},
         }
     return identity
+
+
+def profile_identity(name: str) -> dict[str, Any]:
+    """What a capability profile adds to a cell's identity: nothing for the typical body (as
+    ``config_fields``), else ``{"profile": ...}``, its entry point's name, distribution and
+    version, so that a new version of the profile is not taken for the old one."""
+    if name == TYPICAL_PROFILE:
+        return {}
+    plugin = profile_plugin(name)
+    return {"profile": {"name": name, "distribution": plugin.package, "version": plugin.version}}
 
 
 def plugin_identities(robot: Plugin, human: Plugin, policy: HumanPolicy) -> dict[str, Any]:
@@ -169,10 +196,17 @@ def leaderboard_cells(
 
     A human is meant for a robot when its ``robot`` attribute names it; humans whose ``robot`` is
     None (the built-in baselines passive, random, reach, scripted) are generic and face every robot.
-    ``robots`` / ``humans`` restrict the names. Broken plugins, and plugins that fail the
-    preflight (``plugin_problems``: one reset and one act in a real env, a policy's metadata),
-    are skipped with a warning naming each and its package; the others are scored.
+    ``robots`` / ``humans`` restrict the names. Each human runs under its own capability profile;
+    one of profile None (the baselines) under ``options["profile"]`` (default: typical), and given
+    that option only humans of that profile or of none are scored. Broken plugins, and plugins
+    that fail the preflight (``plugin_problems``: one reset and one act in a real env, a
+    policy's metadata, its profile), are skipped with a warning naming each and its package; the
+    others are scored. A profile asked for that cannot run is a ValueError.
     """
+    from ..plugins.contract import declared_profile
+
+    profile = options.get("profile", TYPICAL_PROFILE)
+    _require_profile(profile)
     robot_records, human_records = robot_plugins(), human_plugins()
     robot_names = _usable(robot_records, robots, "robot")
     if robots is None:  # a distribution of strategies is scored only when asked for by name
@@ -181,8 +215,9 @@ def leaderboard_cells(
     meant = {
         name: policy
         for name, policy in policies.items()
-        if not isinstance(getattr(policy, "robot", None), str) or policy.robot in robot_names
-    }  # humans for robots not asked for are neither checked nor scored
+        if (not isinstance(getattr(policy, "robot", None), str) or policy.robot in robot_names)
+        and ("profile" not in options or declared_profile(policy) in (None, profile))
+    }  # humans for robots or profiles not asked for are neither checked nor scored
     good, meant, found = plugin_problems([robot_records[name] for name in robot_names], meant)
     for noun, name, problem in problems + found:
         records = robot_records if noun == "robot" else human_records
@@ -205,12 +240,13 @@ def plugin_problems(
 
     Each robot strategy gets one reset and one act in a small real env
     (``preflight.robot_problem``); each human instance what it declares checked (ablation,
-    robot, actuation, ``obs_dim`` against the ablation's observation) and one act on a real
-    observation of its ablation (``preflight.human_problem``). Returns the robots and humans
-    that pass, and a ``(noun, name, why)`` for each that does not.
+    robot, actuation, profile, ``obs_dim`` against the ablation's observation), one act on a
+    real observation of its ablation (``preflight.human_problem``) and the check of the
+    capability profile it declares (``preflight.profile_problem``). Returns the robots and
+    humans that pass, and a ``(noun, name, why)`` for each that does not.
     """
-    from ..plugins.contract import human_declaration_problem
-    from ..preflight import Observations, human_problem, robot_problem
+    from ..plugins.contract import declared_profile, human_declaration_problem
+    from ..preflight import Observations, human_problem, profile_problem, robot_problem
 
     problems: list[tuple[str, str, str]] = []
     good_robots = []
@@ -226,6 +262,9 @@ def plugin_problems(
         problem = human_declaration_problem(policy)
         if problem is None and observations is not None:
             problem = human_problem(policy, observations(policy.ablation))
+        profile = declared_profile(policy) if problem is None else None
+        if profile is not None and (why := profile_problem(profile)):
+            problem = f"its capability profile {profile!r} cannot run: {why}"
         if problem:
             problems.append(("human", name, problem))
         else:
@@ -246,7 +285,19 @@ def checked_cell(robot: str, human: str, **options: Any) -> Cell:
         raise ValueError(
             f"{noun} plugin {name!r} from {record.source} cannot be evaluated: {problem}"
         )
-    return resolved_cell(records, policy, **options)
+    cell = resolved_cell(records, policy, **options)
+    _require_profile(cell.profile)
+    return cell
+
+
+def _require_profile(name: str) -> None:
+    """A ValueError in one line when the capability profile ``name`` cannot run
+    (``preflight.profile_problem``)."""
+    from ..preflight import profile_problem
+
+    problem = profile_problem(name)
+    if problem:
+        raise ValueError(f"capability profile {name!r} cannot be evaluated: {problem}")
 
 
 def _instances(

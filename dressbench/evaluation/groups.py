@@ -1,4 +1,5 @@
-"""Which trained humans are seeds of one training: a human's group (robot, recipe, ablation)."""
+"""Which trained humans are seeds of one training: a human's group (robot, recipe, ablation,
+capability profile)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..plugins import human_plugins
+from ..plugins import TYPICAL_PROFILE, human_plugins
 from ..policy_file import PolicyFileError, load_policy
 
 
@@ -19,11 +20,12 @@ class TrainedHuman:
     recipe: str
     ablation: str
     seed: int
+    profile: str = TYPICAL_PROFILE  # the body it was trained in
 
     @property
-    def group(self) -> tuple[str, str, str]:
+    def group(self) -> tuple[str, str, str, str]:
         """Humans of one group differ only by their training seed."""
-        return self.robot, self.recipe, self.ablation
+        return self.robot, self.recipe, self.ablation, self.profile
 
 
 def human_group(
@@ -33,28 +35,20 @@ def human_group(
     (a baseline such as ``passive``, or a name that says nothing of a seed).
 
     ``metadata`` is its policy file's (``TrainedPolicy.metadata``); without it (a name no longer
-    installed) ``robot`` and ``ablation`` are the episodes table's. A generalist (``robot``
-    None: trained for any strategy) is a seed of its group on every strategy. From the
-    metadata: ``robot`` and ``ablation``; the seed is its ``seed``, else its run ``config``'s.
-    The recipe, and a seed the metadata lacks, come from the name, spelled
-    ROBOT[-ABLATION]-RECIPE-sSEED[-SUFFIXES] (``fixed-default-s1``: recipe ``default``; a
-    sweep's ``fixed-complete-trpo-s0-timesteps1000``: ``trpo-timesteps1000``). The name rather
-    than the config's ``recipe``, which names only the preset and whose settings change between
-    versions: the older humans ``fixed-complete-trpo-delta-curriculum-s*`` record ``default``
-    too, yet form their own group, ``trpo-delta-curriculum``. A name not of that form takes the
-    config's recipe.
+    spelled = _NAME.fullmatch(_strip(_strip(_strip(name, robot), ablation), profile))
     """
     config = (metadata or {}).get("config") or {}
+    profile = (metadata or {}).get("profile", TYPICAL_PROFILE)
     if metadata:
         robot, ablation = metadata["robot"], metadata["ablation"]
-    spelled = _NAME.fullmatch(_strip(_strip(name, robot), ablation))
+    spelled = _NAME.fullmatch(_strip(_strip(_strip(name, robot), ablation), profile))
     seed = (metadata or {}).get("seed", config.get("seed"))
     if seed is None and spelled:
         seed = int(spelled["seed"])
     recipe = spelled["recipe"] + (spelled["suffixes"] or "") if spelled else config.get("recipe")
     if seed is None or recipe is None:
         return None
-    return TrainedHuman(robot, recipe, ablation, int(seed))
+    return TrainedHuman(robot, recipe, ablation, int(seed), profile)
 
 
 _NAME = re.compile(r"(?P<recipe>.+?)-s(?P<seed>\d+)(?P<suffixes>-.+)?")

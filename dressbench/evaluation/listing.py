@@ -1,14 +1,15 @@
-"""The plugin listing of ``dressbench plugins``: every robot strategy and human policy plugin,
-its package, version and status, as aligned lines."""
+"""The plugin listing of ``dressbench plugins``: every robot strategy, human policy and capability
+profile plugin, its package, version and status, as aligned lines."""
 
 from __future__ import annotations
 
 from typing import Any
 
-from ..plugins import all_plugins, human_plugins
+from ..plugins import HUMAN_GROUP, PROFILE_GROUP, ROBOT_GROUP, all_plugins, human_plugins
 from .cells import _instances, plugin_problems
 
 HEADER = ("group", "name", "package", "version", "status")
+GROUPS = {ROBOT_GROUP: "robot", HUMAN_GROUP: "human", PROFILE_GROUP: "profile"}  # as listed
 
 
 def plugin_rows(check: bool = False) -> list[tuple[str, ...]]:
@@ -19,7 +20,7 @@ def plugin_rows(check: bool = False) -> list[tuple[str, ...]]:
     failed = _preflight(plugins) if check else {}
     rows = [HEADER]
     for p in plugins:
-        group = "robot" if p.group.endswith("robots") else "human"
+        group = GROUPS[p.group]
         status = "ok" if p.ok else f"BROKEN: {p.error}"
         if p.ok and (group, p.name) in failed:
             status = f"FAILS CHECK: {failed[group, p.name]}"
@@ -37,8 +38,14 @@ def aligned(rows: list[tuple[str, ...]]) -> list[str]:
 
 def _preflight(plugins: list[Any]) -> dict[tuple[str, str], str]:
     """Why each ok plugin among ``plugins`` fails the preflight of evaluations, by (group, name)."""
-    robots = [p for p in plugins if p.ok and p.group.endswith("robots")]
-    humans = [p.name for p in plugins if p.ok and p.group.endswith("humans")]
+    from ..preflight import profile_problem
+
+    robots = [p for p in plugins if p.ok and p.group == ROBOT_GROUP]
+    humans = [p.name for p in plugins if p.ok and p.group == HUMAN_GROUP]
     policies, problems = _instances(human_plugins(), humans)
     problems += plugin_problems(robots, policies)[2]
-    return {(noun, name): why for noun, name, why in problems}
+    found = {(noun, name): why for noun, name, why in problems}
+    for p in plugins:
+        if p.ok and p.group == PROFILE_GROUP and (why := profile_problem(p.name)):
+            found["profile", p.name] = why
+    return found

@@ -142,8 +142,8 @@ def strategies_figure(table: pd.DataFrame, seeds: pd.DataFrame) -> Figure:
     """Each strategy row's final arm progress and max deformation: the mean over seeds with its
     95% interval (two-level bootstrap), and each seed's mean as a dot beside it."""
     figure = Figure(figsize=(max(7.0, 1.4 * len(table) + 4.0), 5.6), layout="constrained")
-    labels = [f"{r.robot} ({r.recipe}, {r.ablation}; {r.seeds} seed{'s' * (r.seeds > 1)})"
-              for r in table.itertuples()]  # fmt: skip
+    labels = [f"{r.robot} ({r.recipe}, {r.ablation}, {r.profile}; "
+              f"{r.seeds} seed{'s' * (r.seeds > 1)})" for r in table.itertuples()]  # fmt: skip
     positions = np.arange(len(table))
     rows = seeds.merge(table[STRATEGY_KEY].assign(position=positions), on=STRATEGY_KEY)
     for axes, metric, title in zip(

@@ -57,16 +57,16 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
         f"Arm progress is the arm's depth in the sleeve (m); max deformation is the largest "
         f"triangle area ratio (stretched / rest) of the episode.",
         "",
-        "| robot | human | ablation | episodes | final arm progress (m) | max deformation "
-        "| hand in | past the elbow (success) | dressed | sim failures |",
-        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| robot | human | ablation | profile | episodes | final arm progress (m) "
+        "| max deformation | hand in | past the elbow (success) | dressed | sim failures |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in board.itertuples():
         progress = _summary(r, "final_arm_progress", "{:.3f}")
         deformation = _summary(r, "max_deformation", "{:.2f}")
         rates = " | ".join(_rate(r, stage) for stage in stages)
         lines.append(
-            f"| {r.robot} | {r.human} | {r.ablation} | {r.episodes} | {progress} "
+            f"| {r.robot} | {r.human} | {r.ablation} | {r.profile} | {r.episodes} | {progress} "
             f"| {deformation} | {rates} | {r.sim_failures} |"
         )
     return "\n".join(lines) + "\n"

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-# What identifies a leaderboard cell: the pair and the env settings its episodes ran with.
-CELL_COLUMNS = ["robot", "human", "ablation", "horizon", "gown_vertices", "device", "config_id"]
+# What identifies a leaderboard cell: the pair and the env settings its episodes ran with, the
+# human's capability profile among them.
+CELL_COLUMNS = ["robot", "human", "ablation", "profile", "horizon", "gown_vertices", "device",
+                "config_id"]  # fmt: skip
 # A cell's episodes also share the evaluation's base seed.
 KEY_COLUMNS = [*CELL_COLUMNS, "seed"]
 

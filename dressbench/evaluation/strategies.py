@@ -183,8 +183,9 @@ STRATEGY_CAPTION = (
     f"the mean of the seeds' means ± the std of the seeds' means, and in brackets its "
     f"{CONFIDENCE:.0%} interval from a two-level bootstrap ({RESAMPLES:,} resamples of the "
     f"seeds, then of the episodes within each). The rank orders the strategies compared (same "
-    f"recipe, ablation and settings) by final arm progress: 1 + the number whose interval lies "
-    f"wholly above the row's, so strategies whose intervals overlap share a place."
+    f"recipe, ablation, capability profile and settings) by final arm progress: 1 + the number "
+    f"whose interval lies wholly above the row's, so strategies whose intervals overlap share a "
+    f"place."
 )
 
 # --- files --------------------------------------------------------------------------------------
@@ -197,18 +198,19 @@ def strategies_markdown(table: pd.DataFrame) -> str:
         "",
         STRATEGY_CAPTION,
         "",
-        "| rank | robot | recipe | ablation | seeds | episodes | final arm progress (m) "
-        "| max deformation | hand in | past the elbow (success) | dressed | note |",
-        "|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| rank | robot | recipe | ablation | profile | seeds | episodes "
+        "| final arm progress (m) | max deformation | hand in | past the elbow (success) "
+        "| dressed | note |",
+        "|---:|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in table.itertuples():
         scores = [score_text(r, "final_arm_progress", "mean", "{:.3f}"),
                   score_text(r, "max_deformation", "mean", "{:.2f}"),
                   *(score_text(r, stage, "rate", "{:.0%}") for stage in STAGE_COLUMNS)]  # fmt: skip
-        lines.append(f"| {r.rank} | {r.robot} | {r.recipe} | {r.ablation} | {r.seeds} "
-                     f"| {r.episodes} | {' | '.join(scores)} | {r.note} |")  # fmt: skip
+        lines.append(f"| {r.rank} | {r.robot} | {r.recipe} | {r.ablation} | {r.profile} "
+                     f"| {r.seeds} | {r.episodes} | {' | '.join(scores)} | {r.note} |")  # fmt: skip
     if table.empty:
-        lines.append("| | no trained human in these results | | | | | | | | | | |")
+        lines.append("| | no trained human in these results | | | | | | | | | | | |")
     return "\n".join(lines) + "\n"
 
 
@@ -221,10 +223,11 @@ def improvement_markdown(table: pd.DataFrame) -> str:
         f"progress; ties count half), averaged over the pairs of their seeds, with its "
         f"{CONFIDENCE:.0%} two-level bootstrap interval. Separated: the interval excludes 1/2.",
         "",
-        "| robot | versus | recipe | ablation | P(deeper) | separated |",
-        "|---|---|---|---|---:|---|",
+        "| robot | versus | recipe | ablation | profile | P(deeper) | separated |",
+        "|---|---|---|---|---|---:|---|",
     ]
-    lines += [f"| {r.robot} | {r.versus} | {r.recipe} | {r.ablation} | {r.probability:.2f} "
+    lines += [f"| {r.robot} | {r.versus} | {r.recipe} | {r.ablation} | {r.profile} "
+              f"| {r.probability:.2f} "
               f"[{r.ci_low:.2f}, {r.ci_high:.2f}] | {'yes' if r.separated else 'no'} |"
               for r in table.itertuples()]  # fmt: skip
     return "\n".join(lines) + "\n"

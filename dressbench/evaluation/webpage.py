@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
+from ..plugins import TYPICAL_PROFILE
 from .report import stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .strategies import STRATEGY_CAPTION, score_text
@@ -119,7 +120,7 @@ def strategy_section(results: Path) -> dict[str, Any] | None:
         table = pd.read_csv(io.BytesIO(data), dtype={"note": str}).fillna({"note": ""})
         rows = [
             [str(value) for value in (
-                r.rank, r.robot, r.recipe, r.ablation, r.seeds, r.episodes,
+                r.rank, r.robot, r.recipe, r.ablation, _profile(r), r.seeds, r.episodes,
                 score_text(r, "final_arm_progress", "mean", "{:.3f}"),
                 score_text(r, "max_deformation", "mean", "{:.2f}"),
                 *(score_text(r, stage, "rate", "{:.0%}") for stage, _ in STAGES), r.note)]
@@ -129,11 +130,16 @@ def strategy_section(results: Path) -> dict[str, Any] | None:
         raise ValueError(f"{path}: not a strategy table ({_one_line(error)})") from None
     if not rows:
         return None
-    header = ["rank", "robot", "recipe", "ablation", "seeds", "episodes",
+    header = ["rank", "robot", "recipe", "ablation", "profile", "seeds", "episodes",
               "final arm progress (m)", "max deformation", *(label for _, label in STAGES),
               "note"]  # fmt: skip
     figure = STRATEGY_FIGURE if (results / STRATEGY_FIGURE).is_file() else None
     return {"header": header, "rows": rows, "caption": STRATEGY_CAPTION, "figure": figure}
+
+
+def _profile(row: Any) -> str:
+    """A row's capability profile; a results folder made before profiles has typical humans."""
+    return str(getattr(row, "profile", TYPICAL_PROFILE))
 
 
 def _cell_key(row: Any) -> tuple[str, str, str]:
@@ -298,16 +304,16 @@ def report_html(
     import jinja2
 
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
-    header = ["robot", "human", "ablation", "episodes", "final arm progress (m)",
+    header = ["robot", "human", "ablation", "profile", "episodes", "final arm progress (m)",
               "max deformation", *(label for _, label in STAGES), "sim failures",
               "video"]  # fmt: skip
-    numeric = {3, 4, 5, 6, 7, 8, 9}
+    numeric = {4, 5, 6, 7, 8, 9, 10}
     rows = []
     for row in board.itertuples():
         key = _cell_key(row)
         clip = clips.get(key)
         rows.append({
-            "text": [str(row.robot), str(row.human), str(row.ablation)],
+            "text": [str(row.robot), str(row.human), str(row.ablation), _profile(row)],
             "numbers": [
                 {"value": row.episodes, "text": row.episodes},
                 _metric_cell(row, "final_arm_progress", 3),

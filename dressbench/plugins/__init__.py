@@ -1,4 +1,5 @@
-"""Robot strategies and human policies that dressbench finds through entry points.
+"""Robot strategies, human policies and capability profiles that dressbench finds through entry
+points.
 
 Importing this package is cheap: no entry point is read and no plugin is imported until one of
 the registry functions is first called.
@@ -7,8 +8,12 @@ the registry functions is first called.
 from dressbench.plugins.protocols import (
     HUMAN_API_VERSION,
     HUMAN_GROUP,
+    PROFILE_API_VERSION,
+    PROFILE_GROUP,
     ROBOT_API_VERSION,
     ROBOT_GROUP,
+    TYPICAL_PROFILE,
+    CapabilityProfile,
     HumanPolicy,
     RobotStrategy,
 )
@@ -22,7 +27,10 @@ from dressbench.plugins.registry import (
     human_plugins,
     human_providers,
     load_human,
+    load_profile,
     load_robot,
+    profile_plugin,
+    profile_plugins,
     refresh,
     robot_plugin,
     robot_plugins,
@@ -31,9 +39,13 @@ from dressbench.plugins.registry import (
 __all__ = [
     "HUMAN_API_VERSION",
     "HUMAN_GROUP",
+    "PROFILE_API_VERSION",
+    "PROFILE_GROUP",
     "ROBOT_API_VERSION",
     "ROBOT_GROUP",
+    "TYPICAL_PROFILE",
     "BrokenPluginError",
+    "CapabilityProfile",
     "HumanPolicy",
     "Plugin",
     "PluginError",
@@ -44,7 +56,10 @@ __all__ = [
     "human_plugins",
     "human_providers",
     "load_human",
+    "load_profile",
     "load_robot",
+    "profile_plugin",
+    "profile_plugins",
     "refresh",
     "robot_plugin",
     "robot_plugins",

@@ -1,5 +1,6 @@
 """The plugin contract, checked in one place: what a robot strategy's start poses and actions, a
-human's actions and what a human declares (ablation, robot, actuation) must be.
+human's actions, what a human declares (ablation, robot, actuation, profile) and what a
+capability profile's body and involuntary motion must be.
 
 Each check returns the one-line problem, or None when the plugin keeps the contract; the env,
 its single-agent view, the preflight of evaluations, ``dressbench.testing`` and the registry ask
@@ -14,13 +15,15 @@ import numpy as np
 
 from ..observation import ABLATIONS, observation_size
 from ..scene.actuation import ACTUATIONS
-from .protocols import HUMAN_ACTION_SIZE, ROBOT_ACTION_SIZE
+from ..scene.body import N_DOFS, BodyLimits
+from .protocols import HUMAN_ACTION_SIZE, ROBOT_ACTION_SIZE, TYPICAL_PROFILE
 
 WORKSPACE = (np.array([-0.3, -1.2, -0.5]), np.array([1.3, 0.8, 1.3]))  # gripper bounds, m
 QUATERNION_TOLERANCE = 1e-3  # how far from 1 the norm of a start pose's quaternion may be
 DEFAULT_ACTUATION = "pd"  # what a human that does not declare its actuation acts by
 PLUGIN_METHODS = ("reset", "act")  # what robot strategies and humans both implement
-HUMAN_ATTRIBUTES = ("robot", "ablation")  # what a human declares (actuation is optional)
+HUMAN_ATTRIBUTES = ("robot", "ablation")  # what a human declares (actuation, profile optional)
+PROFILE_METHODS = ("body", "involuntary")  # what a capability profile implements
 CHECK_VERTICES = 300  # the gown of the checks' small env: coarse, the checks are of interfaces
 CHECK_HORIZON = 2  # policy steps of the preflight's env
 CHECK_SEED = 0
@@ -37,6 +40,17 @@ def trains_generalists(robot: Any) -> bool:
     is a distribution of strategies, a human trained against it is meant for any strategy
     (declares robot None), and a leaderboard scores it only when asked for by name."""
     return getattr(robot, "generalist", False) is True
+
+
+def declared_profile(human: Any) -> str | None:
+    """The capability profile a human was made for, as it declares it: a name, None for any
+    profile, ``TYPICAL_PROFILE`` when it does not say."""
+    return getattr(human, "profile", TYPICAL_PROFILE)
+
+
+def describe_profile(name: str, origin: str | None = None) -> str:
+    """A capability profile in a message: ``"capability profile 'NAME' from ORIGIN"``."""
+    return f"capability profile {name!r}" + (f" from {origin}" if origin else "")
 
 
 def describe_human(human: Any, name: str | None = None) -> str:
@@ -59,10 +73,12 @@ def describe_robot(robot: Any, name: str | None = None, origin: str | None = Non
     return where + (f" from {packages[0]}" if packages else "")
 
 
-def missing_members(plugin: object, attributes: tuple[str, ...] = ()) -> list[str]:
-    """The protocol's methods (``PLUGIN_METHODS``) and ``attributes`` that ``plugin`` lacks, as
+def missing_members(
+    plugin: object, attributes: tuple[str, ...] = (), methods: tuple[str, ...] = PLUGIN_METHODS
+) -> list[str]:
+    """The protocol's ``methods`` and ``attributes`` that ``plugin`` lacks, as
     ``"method reset()"`` / ``"attribute ablation"``."""
-    methods = [m for m in PLUGIN_METHODS if not callable(getattr(plugin, m, None))]
+    methods = tuple(m for m in methods if not callable(getattr(plugin, m, None)))
     attributes = tuple(a for a in attributes if not hasattr(plugin, a))
     return [f"method {m}()" for m in methods] + [f"attribute {a}" for a in attributes]
 
@@ -80,11 +96,16 @@ def api_version_problem(plugin: object, expected: int) -> str | None:
 
 
 def interface_problem(
-    plugin: object, noun: str, expected: int, attributes: tuple[str, ...] = ()
+    plugin: object,
+    noun: str,
+    expected: int,
+    attributes: tuple[str, ...] = (),
+    methods: tuple[str, ...] = PLUGIN_METHODS,
 ) -> str | None:
-    """Why ``plugin`` does not implement the ``noun`` ("robot" or "human") protocol of API
-    ``expected``: its missing methods and ``attributes``, then its ``api_version``; or None."""
-    missing = missing_members(plugin, attributes)
+    """Why ``plugin`` does not implement the ``noun`` ("robot", "human", "profile") protocol of
+    API ``expected``: its missing ``methods`` and ``attributes``, then its ``api_version``; or
+    None."""
+    missing = missing_members(plugin, attributes, methods)
     problems = [f"not a {noun} plugin: missing " + ", ".join(missing)] if missing else []
     api = api_version_problem(plugin, expected)
     return "; ".join(problems + [api] if api else problems) or None
@@ -162,6 +183,9 @@ def human_declaration_problem(human: Any) -> str | None:
     actuation = declared_actuation(human)
     if actuation not in ACTUATIONS:
         return f"it declares actuation {actuation!r}; expected one of {', '.join(ACTUATIONS)}"
+    profile = declared_profile(human)
+    if profile is not None and not isinstance(profile, str):
+        return f"it declares profile {profile!r}; expected a capability profile name or None"
     obs_dim = getattr(human, "obs_dim", None)
     size = observation_size(ablation)
     if obs_dim is not None and obs_dim != size:
@@ -173,11 +197,22 @@ def human_declaration_problem(human: Any) -> str | None:
 
 
 def pairing_problem(
-    human: Any, ablation: str | None, actuation: str | None, name: str | None = None
+    human: Any,
+    ablation: str | None,
+    actuation: str | None,
+    name: str | None = None,
+    profile: str | None = None,
 ) -> str | None:
-    """Why an env of ``ablation`` whose human is driven by ``actuation`` is not the one
-    ``human`` was made for, or None (None for either: not asked for, so the human's own)."""
+    """Why an env of ``ablation`` and capability ``profile`` whose human is driven by
+    ``actuation`` is not the one ``human`` was made for, or None (None for any of them: not
+    asked for, so the human's own; a human of profile None runs under any profile)."""
     who = describe_human(human, name)
+    body = declared_profile(human)
+    if profile is not None and body is not None and profile != body:
+        return (
+            f"{who} was trained for capability profile {body!r}; it cannot run under profile "
+            f"{profile!r}"
+        )
     if ablation is not None and ablation != human.ablation:
         return (
             f"{who} declares ablation {human.ablation!r}; it cannot run with ablation {ablation!r}"
@@ -185,6 +220,54 @@ def pairing_problem(
     own = declared_actuation(human)
     if actuation is not None and actuation != own:
         return f"{who} acts by {own!r} actuation; it cannot run under {actuation!r} actuation"
+    return None
+
+
+def profile_limits_problem(limits: Any, typical: BodyLimits) -> str | None:
+    """What is wrong with the body a capability profile's ``body`` returned for the ``typical``
+    one, or None: ``lower``, ``upper`` and ``max_torque`` of N_DOFS finite numbers each, every
+    range within the typical one and around the rest pose, every cap above 0 and at most the
+    typical one (a profile narrows a body; it cannot make it reach or push further)."""
+    parts = ("lower", "upper", "max_torque")
+    if not all(hasattr(limits, part) for part in parts):
+        return f"body returned {_cut(limits)}, expected BodyLimits (lower, upper, max_torque)"
+    values = {}
+    for part in parts:
+        values[part], problem = _finite_vector(
+            getattr(limits, part), "body", f"BodyLimits.{part}", N_DOFS, f"{N_DOFS} numbers",
+            "one per degree of freedom, in DOF_NAMES order",
+        )  # fmt: skip
+        if problem:
+            return problem
+    lower, upper, torque = values["lower"], values["upper"], values["max_torque"]
+    for wrong, what in (
+        (lower < typical.lower, "a lower limit below the typical body's"),
+        (upper > typical.upper, "an upper limit above the typical body's"),
+        ((lower > typical.rest) | (upper < typical.rest), "a range without the rest pose"),
+        ((torque <= 0.0) | (torque > typical.max_torque), "a torque cap not in (0, typical]"),
+    ):
+        if wrong.any():
+            return f"body returned {what} at degree of freedom {int(np.argmax(wrong))}"
+    return None
+
+
+def involuntary_problem(motion: Any, frames: int) -> str | None:
+    """What is wrong with a capability profile's ``involuntary`` output for an episode of
+    ``frames`` simulation steps, or None: None, or finite joint accelerations of shape
+    (frames, N_DOFS)."""
+    if motion is None:
+        return None
+    try:
+        a = np.asarray(motion, dtype=float)
+    except (TypeError, ValueError):
+        return f"involuntary returned {_cut(motion)}, expected None or an array"
+    if a.shape != (frames, N_DOFS):
+        return (
+            f"involuntary returned motion of shape {a.shape}, expected ({frames}, {N_DOFS}): "
+            "joint accelerations per simulation step"
+        )
+    if not np.isfinite(a).all():
+        return "involuntary returned non-finite joint accelerations"
     return None
 
 

@@ -1,4 +1,8 @@
-"""Built-in human policies: passive, random, reach, and a scripted non-learned baseline."""
+"""Built-in human policies: passive, random, reach, and a scripted non-learned baseline.
+
+None is trained, so each runs under any capability profile (``profile = None``): its actions
+are the same, and the env maps them onto the profile's joint ranges.
+"""
 
 from __future__ import annotations
 
@@ -16,6 +20,7 @@ class Passive:
     robot: str | None = None
     ablation: str = "complete"
     actuation: str = "pd"
+    profile: str | None = None
 
     def reset(self, seed: int | None = None) -> None:
         pass
@@ -31,6 +36,7 @@ class Random:
     robot: str | None = None
     ablation: str = "complete"
     actuation: str = "pd"
+    profile: str | None = None
 
     def __init__(self) -> None:
         self._rng = np.random.default_rng()
@@ -50,6 +56,7 @@ class Reach:
     robot: str | None = None
     ablation: str = "complete"
     actuation: str = "pd"
+    profile: str | None = None
 
     def __init__(self) -> None:
         from ..scene.human import Human  # the body model, for its joint ranges only
@@ -78,6 +85,7 @@ class Scripted:
     robot: str | None = None
     ablation: str = "complete"
     actuation: str = "pd"
+    profile: str | None = None
     step_size = 0.03  # m of fingertip motion asked for per policy step
     damping = 0.05  # m, of the damped least squares
     back_off_force = 20.0  # N: above this total haptic force the hand moves back

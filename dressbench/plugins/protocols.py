@@ -1,9 +1,9 @@
-"""What a plugin is: the two interfaces third-party packages implement.
+"""What a plugin is: the three interfaces third-party packages implement.
 
 A plugin registers a *class* (or any zero-argument factory) under an entry point of group
-``dressbench.robots`` or ``dressbench.humans``. dressbench calls it once per environment to get
-a fresh instance, so instances may keep per-episode state. Both interfaces carry an integer
-``api_version`` that dressbench checks on load.
+``dressbench.robots``, ``dressbench.humans`` or ``dressbench.profiles``. dressbench calls it once
+per environment to get a fresh instance, so instances may keep per-episode state. Every
+interface carries an integer ``api_version`` that dressbench checks on load.
 """
 
 from __future__ import annotations
@@ -12,11 +12,12 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from ..scene.body import N_ACTIONS
+from ..scene.body import N_ACTIONS, BodyLimits
 from ..scene.clock import POLICY_DT
 
 ROBOT_API_VERSION = 1
 HUMAN_API_VERSION = 1
+PROFILE_API_VERSION = 1
 ROBOT_MAX_SPEED = 0.1  # m/s: the gripper speed a robot action of 1 means
 ROBOT_DT = POLICY_DT  # s: one policy step, over which a robot action is applied
 ROBOT_ACTION_SIZE = 3  # the gripper's velocity
@@ -24,6 +25,8 @@ HUMAN_ACTION_SIZE = N_ACTIONS  # PD targets (or torques) of the human's actuated
 OBS_TIME = 6  # index of the time (s) in the robot's observation
 ROBOT_GROUP = "dressbench.robots"
 HUMAN_GROUP = "dressbench.humans"
+PROFILE_GROUP = "dressbench.profiles"
+TYPICAL_PROFILE = "typical"  # the body as scene/body.py plans it: every env's default profile
 
 
 @runtime_checkable
@@ -62,7 +65,8 @@ class HumanPolicy(Protocol):
     api_version: ClassVar[int]
     robot: str | None
     ablation: str
-    # ``actuation: str`` is optional, so not a member: isinstance holds for humans without it
+    # ``actuation: str`` and ``profile: str | None`` are optional, so not members: isinstance
+    # holds for humans without them
 
     def reset(self, seed: int | None = None) -> None:
         """Start an episode; stochastic policies reseed from ``seed``."""
@@ -70,4 +74,29 @@ class HumanPolicy(Protocol):
 
     def act(self, observation: np.ndarray) -> np.ndarray:
         """The human action for a human observation, shape (11,)."""
+        ...
+
+
+@runtime_checkable
+class CapabilityProfile(Protocol):
+    """How one person's body differs from the typical one: range of motion, strength and
+    involuntary motion (docs/profiles.md).
+
+    ``body`` narrows the typical body's joint ranges and torque caps; ``involuntary`` draws an
+    episode's involuntary joint accelerations from the env's generator. A profile only
+    describes the body: the physics applies it, the policy still chooses every voluntary action.
+    """
+
+    api_version: ClassVar[int]
+
+    def body(self, typical: BodyLimits) -> BodyLimits:
+        """The person's ranges and torque caps, given the typical body's (``typical.rest`` is the
+        rest pose, which the ranges must keep); every range within the typical one, every cap
+        above 0 and at most the typical one."""
+        ...
+
+    def involuntary(self, rng: np.random.Generator, frames: int, dt: float) -> np.ndarray | None:
+        """Involuntary joint accelerations (rad/s^2) for the ``frames`` simulation steps of
+        ``dt`` seconds of one episode, shape (frames, N_DOFS), drawn from ``rng`` only; None
+        for none."""
         ...

@@ -1,4 +1,5 @@
-"""Find, check and load robot and human plugins advertised through entry points.
+"""Find, check and load robot, human and capability profile plugins advertised through entry
+points.
 
 Discovery is lazy: nothing is read or imported until a function here is first called, and the
 result is cached until ``refresh()``. Every advertised plugin becomes a ``Plugin`` record, ok or
@@ -18,7 +19,13 @@ from pathlib import Path
 from typing import cast
 
 from dressbench.plugins import protocols
-from dressbench.plugins.contract import HUMAN_ATTRIBUTES, api_version_problem, interface_problem
+from dressbench.plugins.contract import (
+    HUMAN_ATTRIBUTES,
+    PLUGIN_METHODS,
+    PROFILE_METHODS,
+    api_version_problem,
+    interface_problem,
+)
 
 OK = "ok"
 ERROR = "error"
@@ -204,6 +211,7 @@ class _Kind:
     noun: str
     api_version: int
     attributes: tuple[str, ...]  # what its plugins declare, besides the protocol's methods
+    methods: tuple[str, ...] = PLUGIN_METHODS  # the protocol's methods
     # Each source lists a group's plugins: installed entry points, and for humans trained files.
     sources: tuple[Callable[[str], list[_Entry]], ...] = (_entry_point_entries,)
 
@@ -215,6 +223,9 @@ _HUMAN = _Kind(
     protocols.HUMAN_API_VERSION,
     HUMAN_ATTRIBUTES,
     sources=(_entry_point_entries, _policy_file_entries),
+)
+_PROFILE = _Kind(
+    protocols.PROFILE_GROUP, "profile", protocols.PROFILE_API_VERSION, (), PROFILE_METHODS
 )
 
 _cache: dict[str, list[Plugin]] = {}
@@ -249,7 +260,9 @@ def _check(kind: _Kind, entry: _Entry) -> tuple[Callable[[], object] | None, str
     except (Exception, SystemExit) as exc:
         return None, f"creating an instance failed: {_one_line(exc)}"
     try:
-        problem = interface_problem(instance, kind.noun, kind.api_version, kind.attributes)
+        problem = interface_problem(
+            instance, kind.noun, kind.api_version, kind.attributes, kind.methods
+        )
     except Exception as exc:  # a property that raises while being checked
         return None, f"checking the instance failed: {_one_line(exc)}"
     return (None, problem) if problem else (factory, None)
@@ -330,6 +343,11 @@ def human_plugins() -> dict[str, Plugin]:
     return _by_name(_HUMAN)
 
 
+def profile_plugins() -> dict[str, Plugin]:
+    """Every capability profile name and the record it resolves to, ok or broken."""
+    return _by_name(_PROFILE)
+
+
 def human_providers(name: str) -> list[Plugin]:
     """Every human record named ``name``, ok or broken: the one it resolves to first, then its
     losing duplicates."""
@@ -337,8 +355,9 @@ def human_providers(name: str) -> list[Plugin]:
 
 
 def all_plugins() -> list[Plugin]:
-    """Every record of both groups, losing duplicates included: robots first, by name."""
-    return [*_records(_ROBOT), *_records(_HUMAN)]
+    """Every record of the three groups, losing duplicates included: robots, humans, then
+    profiles, each by name."""
+    return [*_records(_ROBOT), *_records(_HUMAN), *_records(_PROFILE)]
 
 
 def _unknown(kind: _Kind, name: str, plugins: dict[str, Plugin]) -> UnknownPluginError:
@@ -379,6 +398,11 @@ def human_plugin(name: str) -> Plugin:
     return _resolve(_HUMAN, name)
 
 
+def profile_plugin(name: str) -> Plugin:
+    """The record of the capability profile ``name``."""
+    return _resolve(_PROFILE, name)
+
+
 def load_robot(name: str) -> protocols.RobotStrategy:
     """A new instance of the robot strategy registered as ``name`` (checked on discovery)."""
     return cast(protocols.RobotStrategy, robot_plugin(name).factory())
@@ -387,3 +411,8 @@ def load_robot(name: str) -> protocols.RobotStrategy:
 def load_human(name: str) -> protocols.HumanPolicy:
     """A new instance of the human policy registered as ``name`` (checked on discovery)."""
     return cast(protocols.HumanPolicy, human_plugin(name).factory())
+
+
+def load_profile(name: str) -> protocols.CapabilityProfile:
+    """A new instance of the capability profile registered as ``name`` (checked on discovery)."""
+    return cast(protocols.CapabilityProfile, profile_plugin(name).factory())

@@ -7,7 +7,9 @@ Frame: x forward, y to the human's left, z up; the pelvis at the origin; q = 0 i
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+import numpy as np
 
 RIGHT, LEFT = -1.0, 1.0  # the sign of y on each side of the body
 
@@ -179,3 +181,35 @@ BODY: tuple[JointSpec, ...] = tuple(body_specs())
 N_DOFS = sum(len(spec.dofs) for spec in BODY)  # 22
 N_ACTIONS = sum(len(spec.dofs) for spec in BODY if spec.actuated)  # 11: the human's action
 N_SENSORS = sum(len(spec.sensors) for spec in BODY)  # 22 haptic sensors
+DOF_NAMES = tuple(dof for spec in BODY for dof in spec.dofs)  # the order of q and of limits
+
+
+@dataclass(frozen=True)
+class BodyLimits:
+    """What a body can do, one entry per degree of freedom in ``DOF_NAMES`` order: its joint
+    ranges (rad), its torque caps (N m) and its rest pose (rad), which every range contains."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    max_torque: np.ndarray
+    rest: np.ndarray
+
+
+def body_limits(specs: tuple[JointSpec, ...] = BODY) -> BodyLimits:
+    """The ranges, torque caps and rest pose of a body plan."""
+    moving = [spec for spec in specs if spec.dofs]
+    return BodyLimits(*(np.concatenate([getattr(spec, name) for spec in moving])
+                        for name in ("lower", "upper", "max_torque", "rest")))  # fmt: skip
+
+
+def with_limits(specs: tuple[JointSpec, ...], limits: BodyLimits) -> tuple[JointSpec, ...]:
+    """The body plan ``specs`` with the ranges and torque caps of ``limits`` (its rest pose
+    kept): how a capability profile's body becomes the one the physics builds."""
+    changed, start = [], 0
+    for spec in specs:
+        part = slice(start, start + len(spec.dofs))
+        start = part.stop
+        values = {name: tuple(float(v) for v in getattr(limits, name)[part])
+                  for name in ("lower", "upper", "max_torque")}  # fmt: skip
+        changed.append(replace(spec, **values) if spec.dofs else spec)
+    return tuple(changed)

@@ -82,9 +82,16 @@ class Human:
         self.reset()
 
     # ----------------------------------------------------------------------------- state
-    def reset(self, q: np.ndarray | None = None) -> None:
+    def reset(self, q: np.ndarray | None = None, involuntary: np.ndarray | None = None) -> None:
         """Put the body at rest (or at ``q``), motionless, with the PD target at rest (at the
-        pose itself when actions move the target, so that doing nothing holds it)."""
+        pose itself when actions move the target, so that doing nothing holds it).
+
+        ``involuntary``: joint accelerations (rad/s^2), one row of N_DOFS per simulation step
+        from now on, that the body makes besides what it is asked to (a tremor); after the
+        last row, none. None: no involuntary motion.
+        """
+        self._involuntary = involuntary
+        self._frame = 0
         pose = self.rest if q is None else np.asarray(q, dtype=float)
         self.skeleton.setPositions(pose)
         self.skeleton.setVelocities(np.zeros(self.N_DOFS))
@@ -206,11 +213,17 @@ class Human:
         q, dq = self.q, self.dq
         cfg = self.config
         speed = np.clip(cfg.kp / cfg.kd * (self.target - q), -cfg.max_speed, cfg.max_speed)
-        inertial = np.asarray(skel.getMassMatrix()) @ (cfg.kd * (speed - dq))
+        mass = np.asarray(skel.getMassMatrix())
+        inertial = mass @ (cfg.kd * (speed - dq))
+        shake = self._shake(mass)
+        if shake is not None:
+            inertial += shake
         bias = np.asarray(skel.getCoriolisAndGravityForces())
         tau = _within_limits(inertial, bias, self.max_torque)
         if self.config.actuation == "torque":
             tau[self.actuated_index] = self.config.torque_scale * self._torque_action
+            if shake is not None:
+                tau[self.actuated_index] += shake[self.actuated_index]
         self.torque = np.clip(tau, -self.max_torque, self.max_torque)  # the last commanded
         skel.setForces(self.torque)
         for k in np.flatnonzero(
@@ -219,6 +232,15 @@ class Human:
             self._bodies[k].addExtForce(body_forces[k], _ORIGIN, False, True)  # at the body origin
             self._bodies[k].addExtTorque(body_torques[k], False)
         self.world.step()
+
+    def _shake(self, mass: np.ndarray) -> np.ndarray | None:
+        """This step's involuntary torque, M(q) times its row of involuntary accelerations (so
+        that it moves those joints, and only those, by that much), or None; advances a row."""
+        if self._involuntary is None or self._frame >= len(self._involuntary):
+            return None
+        row = self._involuntary[self._frame]
+        self._frame += 1
+        return mass @ row
 
     def is_finite(self) -> bool:
         return bool(np.isfinite(self.q).all() and np.isfinite(self.dq).all())

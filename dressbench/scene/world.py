@@ -14,6 +14,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from .body import BodyLimits, with_limits
 from .clock import FRAME_SKIP, SIM_DT
 from .cloth import Cloth, ClothConfig, ClothMesh, ContactBodies
 from .garment import BACK, SEAM, Gown, GownConfig, make_gown, straight_pairs
@@ -45,6 +46,12 @@ def actuated_scene(actuation: str, scene: SceneConfig | None = None) -> SceneCon
     """``scene`` (default settings if None) with the human driven by ``actuation``."""
     scene = scene or SceneConfig()
     return replace(scene, human=replace(scene.human, actuation=actuation))
+
+
+def limited_scene(limits: BodyLimits, scene: SceneConfig) -> SceneConfig:
+    """``scene`` with the human's joint ranges and torque caps those of ``limits``."""
+    specs = with_limits(scene.human.specs, limits)
+    return replace(scene, human=replace(scene.human, specs=specs))
 
 
 @dataclass
@@ -101,9 +108,15 @@ class Scene:
         self.contact_force = np.zeros(3)  # total cloth force on the body, mean over the step
 
     # ----------------------------------------------------------------------------- episode
-    def reset(self, gripper_pose: np.ndarray, human_q: np.ndarray | None = None) -> None:
-        """Human at rest (or ``human_q``); the settled gown held at ``gripper_pose``."""
-        self.human.reset(human_q)
+    def reset(
+        self,
+        gripper_pose: np.ndarray,
+        human_q: np.ndarray | None = None,
+        involuntary: np.ndarray | None = None,
+    ) -> None:
+        """Human at rest (or ``human_q``), making the ``involuntary`` joint accelerations if
+        given (``Human.reset``); the settled gown held at ``gripper_pose``."""
+        self.human.reset(human_q, involuntary)
         self.gripper_pose = np.asarray(gripper_pose, dtype=float).copy()
         self.cloth.set_state(transform_points(self.gripper_pose, self._rest_shape))
         self.cloth.set_gripper(self.gripper_pose, self.gripper_pose)

@@ -20,6 +20,7 @@ from ..checks import (
 )
 from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, option, option_like
 from ..observation import HAPTIC_SCALES, check_haptic_scale
+from ..plugins.protocols import TYPICAL_PROFILE
 from ..scene.actuation import ACTUATIONS, check_actuation
 from .curriculum import CurriculumConfig
 from .tear import TearConfig
@@ -44,6 +45,8 @@ class TrainConfig:
     robot: str = option("fixed", "Robot strategy to train for.")
     algo: str = option("trpo", "The paper's TRPO, or PPO.", choices=ALGORITHMS)
     ablation: str = option_like(EnvConfig, "ablation", EnvConfig.ablation)
+    # the body it learns in; the trained policy declares it, and is run with it everywhere
+    profile: str = option_like(EnvConfig, "profile", EnvConfig.profile)
     # the warm-up's end, then as many steps on the whole reward
     timesteps: int = option(1_000_000, "Environment steps.", AT_LEAST_ONE)
     # a budget of learning time in hours, summed over the run's sessions as run.json counts
@@ -96,7 +99,9 @@ class TrainConfig:
     out: str = option("runs", "Folder of training runs.", check_folder)
     policies: str = option("policies", "Where models go (a folder dressbench finds humans in).",
                            check_folder)  # fmt: skip
-    name: str = option("", "Run and policy name (default ROBOT-ABLATION-ALGO-sSEED).", check_name)
+    name: str = option("", "Run and policy name (default ROBOT-ABLATION-ALGO-sSEED, "
+                       "ROBOT-ABLATION-PROFILE-ALGO-sSEED for a profile not typical).",
+                       check_name)  # fmt: skip
     # a trained human to start from (training/init.py): with one, the recipe's curriculum and
     # warm-up are off (a capable human needs neither), unless asked for
     init: str | None = option(None, "Start from this trained human's weights and observation "
@@ -126,15 +131,21 @@ class TrainConfig:
     def check(self) -> None:
         """What a run needs besides its numbers, checked before anything is written: the robot
         strategy loads (else a ``PluginError``) and passes one reset and one act in a small env,
-        the env options are valid, ``out`` and ``policies`` are folders that exist or can be
-        created, no other process trains the run (``lock.check_unlocked``), and no human but
-        the run's own earlier policy has its name (else a ``ValueError``)."""
+        the capability profile passes its check, the env options are valid, ``out`` and
+        ``policies`` are folders that exist or can be created, no other process trains the run
+        (``lock.check_unlocked``), and no human but the run's own earlier policy has its name
+        (else a ``ValueError``)."""
         from ..plugins import robot_plugin
-        from ..preflight import robot_problem
+        from ..preflight import profile_problem, robot_problem
         from .lock import check_unlocked
 
         plugin = robot_plugin(self.robot)
-        EnvConfig(ablation=self.ablation, gown_vertices=self.gown_vertices, horizon=self.horizon)
+        EnvConfig(ablation=self.ablation, profile=self.profile, gown_vertices=self.gown_vertices,
+                  horizon=self.horizon)  # fmt: skip
+        problem = profile_problem(self.profile)
+        if problem:
+            raise ValueError(f"capability profile {self.profile!r} cannot be trained in: "
+                             f"{problem}")  # fmt: skip
         check_folder(self.out, "out")
         check_folder(self.policies, "policies")
         check_unlocked(Path(self.out) / self.run_name)
@@ -208,7 +219,10 @@ class TrainConfig:
 
     @property
     def run_name(self) -> str:
-        return self.name or f"{self.robot}-{self.ablation}-{self.algo}-s{self.seed}"
+        """``name``, else one made of the settings (the profile only when it is not typical, so
+        that the names of runs made before profiles stay theirs)."""
+        profile = "" if self.profile == TYPICAL_PROFILE else f"-{self.profile}"
+        return self.name or f"{self.robot}-{self.ablation}{profile}-{self.algo}-s{self.seed}"
 
     @property
     def processes(self) -> int:

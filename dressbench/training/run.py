@@ -321,6 +321,7 @@ class TrainingRun:
             "robot": None if generalist else cfg.robot,  # a generalist is meant for any
             "ablation": cfg.ablation,
             "actuation": cfg.actuation,
+            "profile": cfg.profile,
             "haptics": cfg.haptics,
             "algorithm": cfg.algo,
             "seed": cfg.seed,
@@ -374,7 +375,8 @@ class _EnvFactory:
 
         cfg = self.config
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
-                             horizon=cfg.horizon, actuation=cfg.actuation)  # fmt: skip
+                             horizon=cfg.horizon, actuation=cfg.actuation,
+                             profile=cfg.profile)  # fmt: skip
         if cfg.haptics != "newtons":
             env = ScaledHaptics(env, cfg.ablation, cfg.haptics)
         keywords = ("arm_progress", "max_deformation", "sim_failure")

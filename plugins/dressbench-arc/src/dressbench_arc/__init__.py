@@ -1,6 +1,7 @@
-"""dressbench-arc: an example plugin package with one robot strategy and one human policy.
+"""dressbench-arc: an example plugin package with one robot strategy, one human policy and one
+capability profile.
 
-dressbench finds them through the entry points in ``pyproject.toml`` (as ``arc`` and
-``follow_task``) and imports ``robot`` or ``human`` only when it needs them, so this file
-imports nothing.
+dressbench finds them through the entry points in ``pyproject.toml`` (as ``arc``,
+``follow_task`` and ``stiff_elbow``) and imports ``robot``, ``human`` or ``profile`` only when it
+needs them, so this file imports nothing.
 """
