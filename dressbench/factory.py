@@ -72,8 +72,9 @@ def env_options(
 ) -> dict[str, Any]:
     """The ``EnvConfig`` options of an env: ``options`` with ``actuation`` (how the human's
     actions drive its joints) put into the scene, and given ``human`` (a name or a policy) its
-    own ablation, actuation and capability profile (unless it runs under any). An ablation,
-    actuation or profile the caller states (in ``options``, its ``scene`` or ``config``) other
+    own ablation and actuation, and its capability profile unless the caller states one (a
+    human runs under the body it was trained for unless asked to run under another). An
+    ablation or actuation the caller states (in ``options``, its ``scene`` or ``config``) other
     than the human's is a one-line ValueError naming both."""
     from .plugins.contract import declared_actuation, declared_profile, pairing_problem
     from .scene.world import actuated_scene
@@ -86,11 +87,11 @@ def env_options(
         stated = actuation or (scene.human.actuation if scene is not None else None)
         ablation = options.get("ablation", config.ablation if config else None)
         profile = options.get("profile", config.profile if config else None)
-        problem = pairing_problem(policy, ablation, stated, name, profile)
+        problem = pairing_problem(policy, ablation, stated, name)
         if problem:
             raise ValueError(problem)
         options["ablation"], actuation = policy.ablation, declared_actuation(policy)
-        if declared_profile(policy) is not None:
+        if profile is None and declared_profile(policy) is not None:
             options["profile"] = declared_profile(policy)
     if actuation is not None:
         options["scene"] = actuated_scene(actuation, scene)

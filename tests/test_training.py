@@ -18,7 +18,7 @@ from sb3_contrib import TRPO
 from dressbench import plugins
 from dressbench.cli import main
 from dressbench.config import RewardConfig
-from dressbench.evaluation import evaluate, leaderboard, make_cell
+from dressbench.evaluation import evaluate, leaderboard, leaderboard_cells, make_cell
 from dressbench.factory import make_human_env
 from dressbench.training import TrainConfig, load_policy, train
 from dressbench.training.curriculum import CurriculumConfig
@@ -408,7 +408,9 @@ def test_a_stopped_training_saves_its_checkpoint_where_it_stopped_and_says_so(tm
     assert "Traceback" not in errors
 
 
-def test_a_human_trained_in_a_profile_runs_only_under_it(tmp_path, policies_on_path):
+def test_a_human_trained_in_a_profile_runs_under_it_unless_asked_otherwise(
+    tmp_path, policies_on_path
+):
     path = train(tiny_config(tmp_path, timesteps=64, name="trembler", profile="tremor"),
                  progress=False)  # fmt: skip
     assert json.loads(path.read_text())["profile"] == "tremor"
@@ -416,8 +418,11 @@ def test_a_human_trained_in_a_profile_runs_only_under_it(tmp_path, policies_on_p
     assert run["config"]["profile"] == "tremor"
     plugins.refresh()
     assert make_cell("fixed", "trembler", gown_vertices=600, horizon=8).config().profile == "tremor"
-    with pytest.raises(ValueError, match="trained for capability profile 'tremor'"):
-        make_cell("fixed", "trembler", profile="typical", gown_vertices=600, horizon=8)
+    asked = make_cell("fixed", "trembler", profile="typical", gown_vertices=600, horizon=8)
+    assert asked.config().profile == "typical"
+    cells = leaderboard_cells(["fixed"], ["trembler"], profile="weak_arm", gown_vertices=600,
+                              horizon=8)  # fmt: skip
+    assert [cell.config().profile for cell in cells] == ["weak_arm"]  # named: run under it
 
 
 def test_a_human_trained_to_move_its_targets_is_scored_moving_them(tmp_path, policies_on_path):

@@ -198,15 +198,17 @@ def leaderboard_cells(
     None (the built-in baselines passive, random, reach, scripted) are generic and face every robot.
     ``robots`` / ``humans`` restrict the names. Each human runs under its own capability profile;
     one of profile None (the baselines) under ``options["profile"]`` (default: typical), and given
-    that option only humans of that profile or of none are scored. Broken plugins, and plugins
-    that fail the preflight (``plugin_problems``: one reset and one act in a real env, a
-    policy's metadata, its profile), are skipped with a warning naming each and its package; the
-    others are scored. A profile asked for that cannot run is a ValueError.
+    that option only humans of that profile or of none are scored, and those ``humans`` names,
+    under it. Broken plugins, and plugins that fail the preflight (``plugin_problems``: one
+    reset and one act in a real env, a policy's metadata, its profile), are skipped with a
+    warning naming each and its package; the others are scored. A profile asked for that
+    cannot run is a ValueError.
     """
     from ..plugins.contract import declared_profile
 
     profile = options.get("profile", TYPICAL_PROFILE)
     _require_profile(profile)
+    humans = None if humans is None else list(humans)
     robot_records, human_records = robot_plugins(), human_plugins()
     robot_names = _usable(robot_records, robots, "robot")
     if robots is None:  # a distribution of strategies is scored only when asked for by name
@@ -216,7 +218,11 @@ def leaderboard_cells(
         name: policy
         for name, policy in policies.items()
         if (not isinstance(getattr(policy, "robot", None), str) or policy.robot in robot_names)
-        and ("profile" not in options or declared_profile(policy) in (None, profile))
+        and (
+            "profile" not in options
+            or declared_profile(policy) in (None, profile)
+            or (humans is not None and name in humans)
+        )
     }  # humans for robots or profiles not asked for are neither checked nor scored
     good, meant, found = plugin_problems([robot_records[name] for name in robot_names], meant)
     for noun, name, problem in problems + found:

@@ -197,22 +197,13 @@ def human_declaration_problem(human: Any) -> str | None:
 
 
 def pairing_problem(
-    human: Any,
-    ablation: str | None,
-    actuation: str | None,
-    name: str | None = None,
-    profile: str | None = None,
+    human: Any, ablation: str | None, actuation: str | None, name: str | None = None
 ) -> str | None:
-    """Why an env of ``ablation`` and capability ``profile`` whose human is driven by
-    ``actuation`` is not the one ``human`` was made for, or None (None for any of them: not
-    asked for, so the human's own; a human of profile None runs under any profile)."""
+    """Why an env of ``ablation`` whose human is driven by ``actuation`` is not the one
+    ``human`` was made for, or None (None for either: not asked for, so the human's own). A
+    capability profile is no such mismatch: a body another than its own is a question asked of
+    the human (how does it fare with a weak arm?), not a broken observation or action."""
     who = describe_human(human, name)
-    body = declared_profile(human)
-    if profile is not None and body is not None and profile != body:
-        return (
-            f"{who} was trained for capability profile {body!r}; it cannot run under profile "
-            f"{profile!r}"
-        )
     if ablation is not None and ablation != human.ablation:
         return (
             f"{who} declares ablation {human.ablation!r}; it cannot run with ablation {ablation!r}"
