@@ -127,8 +127,8 @@ _SEED_OPTION = click.option("--seed", default=0, show_default=True, callback=_ch
 _GOWN = _option(EnvConfig, "gown_vertices")
 _PROFILE = _option(EnvConfig, "profile", default=None, show_default=False,
                    help="The humans' capability profile (default: each human's own; typical "
-                        "for the untrained baselines). A human trained for another is refused "
-                        "(evaluate) or left out (leaderboard).")  # fmt: skip
+                        "for the untrained baselines). A leaderboard then scores the humans "
+                        "trained for it, and those --human names, under it.")  # fmt: skip
 _HORIZON = _option(EnvConfig, "horizon")
 _BACKEND = _options(
     click.option("--backend", type=click.Choice(BACKENDS), default="local", show_default=True,
@@ -398,13 +398,13 @@ def report_command(results: str, videos: bool, workers: int | None) -> None:
 @click.option("--out", "path", default="rollout.gif", show_default=True,
               callback=_checked(check_output_file, suffixes=(".gif", ".mp4")),
               help="A .gif or .mp4, in a folder that exists.")  # fmt: skip
-@_options(_SEED_OPTION, _GOWN, _HORIZON)
-def render(robot: str, human: str, path: str, **episode: int) -> None:
+@_options(_SEED_OPTION, _GOWN, _HORIZON, _PROFILE)
+def render(robot: str, human: str, path: str, **episode: Any) -> None:
     """A headless video of one rollout (the human's capsules, the gown, the gripper), in the
     env the human was made for: the episode its evaluation scores for the same seed."""
     from .video import render_rollout
 
-    video = render_rollout(robot, human, path, **episode)
+    video = render_rollout(robot, human, path, **_stated(episode))
     click.echo(f"video written to {video.path}: {video.summary()}")
 
 
