@@ -10,7 +10,7 @@ from dressbench.factory import make_env, make_human_env
 from dressbench.metrics import feature_plane
 from dressbench.plugins import load_robot
 from dressbench.plugins.contract import start_pose_problem, trains_generalists
-from dressbench.plugins.family import KINDS, Family, cylindrical
+from dressbench.plugins.family import KINDS, Family, cylindrical, episode_members
 from dressbench.plugins.protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED
 from dressbench.plugins.robots import LINEAR_DURATION
 from dressbench.scene.geometry import transform_points
@@ -167,3 +167,14 @@ def test_the_curriculum_places_each_near_start_for_that_episodes_member():
         seen.add(onto_hand)
     assert seen == {True, False}  # members of both kinds in a dozen episodes
     assert min(alignment) > 0.95 and np.median(alignment) > 0.999
+
+
+def test_the_member_an_episode_faced_is_known_from_its_seed_alone():
+    env = make_env("family", gown_vertices=300, horizon=2)
+    seeds = [11, 12, 13, 14]
+    faced = []
+    for seed in seeds:
+        env.reset(seed=seed)
+        faced.append(env.robot_strategy.member)
+    for member, known in zip(faced, episode_members(seeds), strict=True):
+        assert member.kind == known.kind and np.array_equal(member.start, known.start)

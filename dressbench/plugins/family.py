@@ -186,6 +186,14 @@ class Family:
         return np.clip(step / ROBOT_DT / ROBOT_MAX_SPEED, -1.0, 1.0)
 
 
+def episode_members(episode_seeds: list[int], config: FamilyConfig | None = None) -> list[Member]:
+    """The member each episode of these seeds (episodes.csv's ``episode_seed``) faced: an env
+    reset with a seed draws the robot's episode first from a generator of that seed, so the
+    members are known without running anything (to score a human per kind of member)."""
+    config = config or Family.config
+    return [draw_member(config, np.random.default_rng(seed)) for seed in episode_seeds]
+
+
 def draw_member(config: FamilyConfig, rng: np.random.Generator) -> Member:
     """A member of the family whose held opening lies outside the resting human at its start
     and its target: a draw that puts it inside (near the body, some 5% of moving members) is
