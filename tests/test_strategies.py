@@ -240,6 +240,23 @@ def test_the_files_are_written_beside_the_cell_table(tmp_path):
     assert (tmp_path / "strategies.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_strategies_under_several_profiles_get_a_figure_of_strategy_by_profile(tmp_path):
+    scores = seeds_of("fixed", [0.3, 0.4]) | seeds_of("front_linear", [0.5, 0.45])
+    typical = episodes(scores)
+    weak = episodes({key: values - 0.2 for key, values in scores.items()}).assign(
+        profile="weak_arm"
+    )
+    write_strategies(tmp_path, typical)
+    assert not (tmp_path / "profiles.png").exists()
+    table = write_strategies(tmp_path, pd.concat([typical, weak], ignore_index=True))
+    assert sorted(zip(table["robot"], table["profile"], strict=True)) == [
+        ("fixed", "typical"), ("fixed", "weak_arm"),
+        ("front_linear", "typical"), ("front_linear", "weak_arm")]  # fmt: skip
+    assert (tmp_path / "profiles.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    write_strategies(tmp_path, typical)
+    assert not (tmp_path / "profiles.png").exists()  # no stale figure of profiles not scored
+
+
 def test_without_trained_humans_the_table_says_so_and_no_figure_is_left(tmp_path):
     (tmp_path / "strategies.png").write_bytes(b"an earlier run's")
     write_strategies(tmp_path, episodes({("fixed", "passive"): np.zeros(3)}))

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ..plugins.protocols import ROBOT_DT
+from ..plugins.protocols import ROBOT_DT, TYPICAL_PROFILE
 from .rollouts import SUCCESS_DEPTH
 from .schema import STRATEGY_KEY
 
@@ -164,4 +164,35 @@ def strategies_figure(table: pd.DataFrame, seeds: pd.DataFrame) -> Figure:
         axes.grid(axis="y", alpha=0.3)
     axes.legend(fontsize="small")
     figure.suptitle("strategies: scores over the humans trained for them (seeds, then rollouts)")
+    return figure
+
+
+def profiles_figure(table: pd.DataFrame) -> Figure:
+    """Each strategy (along x) under each capability profile: one marker per group of humans
+    (profile, recipe, ablation) with its mean over seeds and 95% interval, for final arm
+    progress and max deformation: which strategy holds up for whom."""
+    figure = Figure(figsize=(max(7.0, 2.0 * table["robot"].nunique() + 4.0), 5.0),
+                    layout="constrained")  # fmt: skip
+    robots = sorted(table["robot"].unique())
+    groups = sorted(table.groupby(["profile", "recipe", "ablation"]),
+                    key=lambda group: (group[0][0] != TYPICAL_PROFILE, group[0]))  # fmt: skip
+    width = 0.8 / len(groups)
+    for axes, metric, title in zip(
+        figure.subplots(1, 2),
+        ("final_arm_progress", "max_deformation"),
+        ("final arm progress (m)", "max deformation (area ratio)"),
+        strict=True,
+    ):
+        for k, ((profile, recipe, ablation), rows) in enumerate(groups):
+            x = np.array([robots.index(r) for r in rows["robot"]]) + (k + 0.5) * width - 0.4
+            mean = rows[f"{metric}_mean"].to_numpy()
+            whiskers = [mean - rows[f"{metric}_ci_low"], rows[f"{metric}_ci_high"] - mean]
+            axes.errorbar(x, mean, yerr=whiskers, fmt="o", capsize=4, color=f"C{k % 10}",
+                          label=f"{profile} ({recipe}, {ablation})")  # fmt: skip
+        axes.set_xticks(np.arange(len(robots)), robots)
+        axes.set_xlim(-0.6, len(robots) - 0.4)
+        axes.set_title(title)
+        axes.grid(axis="y", alpha=0.3)
+    axes.legend(fontsize="small", title="profile (recipe, ablation)")
+    figure.suptitle("strategies under each capability profile: mean over seeds, 95% CI")
     return figure

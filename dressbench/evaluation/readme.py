@@ -26,6 +26,8 @@ FILES = {
     "improvement.md": "P[a rollout of one strategy goes deeper than one of another], per pair",
     "improvement.csv": "the same, every column",
     "strategies.png": "each strategy's scores with their intervals, and each seed's mean",
+    "profiles.png": "each strategy under each capability profile, with intervals (written "
+    "where the strategy table holds more than one profile)",
     "episodes.csv": "one row per rollout: its seed, final arm progress, max deformation, stages",
     "curves.csv": "mean and std of arm progress and deformation at every policy step, per cell",
     "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",

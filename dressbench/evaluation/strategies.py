@@ -25,7 +25,7 @@ import pandas as pd
 from ..files import write_csv, write_png, write_text
 from .bootstrap import Draws, improvement, observed, percentile_interval, two_level_draws
 from .groups import TrainedHuman, trained_humans
-from .plots import strategies_figure
+from .plots import profiles_figure, strategies_figure
 from .schema import (
     COMPARED_COLUMNS,
     IMPROVEMENT_COLUMNS,
@@ -36,6 +36,7 @@ from .schema import (
 )
 from .statistics import CONFIDENCE, RESAMPLES
 
+PROFILES_FIGURE = "profiles.png"  # strategy x capability profile, when there are several
 RANKED_BY = "final_arm_progress"  # the rank, and "deeper" in P(improvement)
 ONE_SEED = "one seed: the CI covers rollouts only"
 SCORES = [*STRATEGY_MEANS, *STAGE_COLUMNS]  # the episodes columns a strategy is scored on
@@ -243,7 +244,8 @@ def score_text(row: Any, score: str, centre: str, number: str) -> str:
 
 def write_strategies(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
     """Write strategies.csv/.md, improvement.csv/.md and strategies.png (none without a trained
-    human) into ``out``; returns the strategy table."""
+    human), and profiles.png where the table holds more than one capability profile, into
+    ``out``; returns the strategy table."""
     humans = trained_humans(_named(episodes))  # each policy file read once
     table = strategy_table(episodes, humans, seed)
     pairs = improvement_table(episodes, humans, seed)
@@ -256,4 +258,9 @@ def write_strategies(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.Dat
         figure.unlink(missing_ok=True)  # an earlier run's would show strategies not scored here
     else:
         write_png(figure, strategies_figure(table, seed_means(scored_episodes(episodes, humans))))
+    by_profile = out / PROFILES_FIGURE
+    if table["profile"].nunique() > 1:
+        write_png(by_profile, profiles_figure(table))
+    else:
+        by_profile.unlink(missing_ok=True)
     return table
