@@ -183,8 +183,7 @@ def test_training_resumes_after_a_kill_and_loses_at_most_one_checkpoint(tmp_path
 
 
 def test_a_malformed_policy_file_is_reported_by_name(tmp_path, policies_on_path):
-    folder = tmp_path / "policies"
-    folder.mkdir()
+    folder = tmp_path / "policies"  # made by the fixture
     (folder / "broken.safetensors").write_bytes(b"not tensors")
     (folder / "broken.json").write_text('{"format": "dressbench-policy", "format_version": 1')
     plugins.refresh()
