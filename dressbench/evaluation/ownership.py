@@ -14,7 +14,7 @@ import fnmatch
 import os
 from pathlib import Path
 
-from ..files import parse_json, read_untrusted, readable, write_text
+from ..files import read_json, write_text
 from .readme import FILES, MARKER, README
 from .store import ROLLOUTS
 
@@ -59,10 +59,8 @@ def _owned(folder: Path) -> bool:
 def _written_by_an_evaluation(meta: Path) -> bool:
     """Whether ``meta`` is a regular file that reads as the run_meta.json of an evaluation."""
     try:
-        if not readable(meta):
-            return False
-        data = parse_json(read_untrusted(meta, "a run's metadata"))
-    except (OSError, ValueError):
+        data = read_json(meta, "a run's metadata")
+    except ValueError:  # missing, a link, too large or not JSON: no evaluation's
         return False
     return (
         isinstance(data, dict)

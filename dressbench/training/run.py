@@ -197,7 +197,7 @@ class TrainingRun:
             steps = int(model.num_timesteps)
             run_json["result"] = self._summarize(steps)
             write_json(self.folder / "run.json", run_json)
-            return self.export(model)
+            return self.export(model, run_json.get("parent"))
         finally:
             try:
                 venv.close()
@@ -306,9 +306,10 @@ class TrainingRun:
         return result | {"training_seconds": round(seconds, 1),
                          "env_steps_per_second": round(steps / max(seconds, 1e-9), 1)}  # fmt: skip
 
-    def export(self, model) -> Path:
-        """The finished policy as safetensors + JSON in the policies folder; plugins are
-        discovered again on next use, so that this process finds it by name."""
+    def export(self, model, parent: dict | None = None) -> Path:
+        """The finished policy as safetensors + JSON in the policies folder, with the record of
+        the ``parent`` it started from, if any; plugins are discovered again on next use, so
+        that this process finds it by name."""
         from ..plugins import refresh, robot_plugin
         from ..plugins.contract import trains_generalists
         from .export import save_policy
@@ -330,8 +331,8 @@ class TrainingRun:
             "git_commit": git_commit(),
             "config": cfg.record(),
         }
-        if cfg.init:
-            metadata["parent"] = _record_of(self.folder)["parent"]
+        if parent is not None:
+            metadata["parent"] = parent
         norm = model.get_vec_normalize_env()
         _, json_path = save_policy(Path(cfg.policies) / cfg.run_name, model, norm.obs_rms, metadata,
                                    clip_obs=norm.clip_obs, epsilon=norm.epsilon)  # fmt: skip

@@ -19,6 +19,7 @@ from matplotlib.lines import Line2D
 from ..files import read_untrusted, write_csv, write_json, write_png
 
 STEPS = "time/total_timesteps"
+TIME = "time/time_elapsed"  # wall seconds of the session, as SB3 logs them
 PANELS = (  # column of progress.csv, title, axis label
     ("rollout/ep_rew_mean", "episode return", "mean of the last 100 episodes"),
     ("rollout/final_arm_progress", "final arm progress", "m, mean of recent episodes"),
@@ -51,7 +52,7 @@ def learning_table(run_folder: str | Path, until: int | None = None) -> pd.DataF
 def learning_seconds(table: pd.DataFrame) -> np.ndarray:
     """Wall time spent learning at each logged update, summed over sessions (SB3's
     time_elapsed restarts at a resume, so each session adds the last time of the one before)."""
-    elapsed = table["time/time_elapsed"].to_numpy(dtype=float)
+    elapsed = table[TIME].to_numpy(dtype=float)
     restarts = np.flatnonzero(np.diff(elapsed) < 0)
     offsets = np.zeros_like(elapsed)
     for restart in restarts:
@@ -143,7 +144,7 @@ def write_learning_comparison(
 ) -> Path:
     """Draw the learning summaries' tables (``progress``: label -> ``NAME-progress.csv``) on
     shared axes into the PNG ``out``."""
-    tables = {label: pd.read_csv(path) for label, path in progress.items()}
+    tables = {label: read_learning_summary(path, (STEPS,)) for label, path in progress.items()}
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_png(out, comparison_figure(tables, title))
@@ -191,17 +192,19 @@ def time_figure(tables: Mapping[str, pd.DataFrame], title: str, smooth: int = 5)
     return figure
 
 
-def read_learning_summary(path: str | Path) -> pd.DataFrame:
+def read_learning_summary(
+    path: str | Path, columns: tuple[str, ...] = (STEPS, TIME)
+) -> pd.DataFrame:
     """A learning summary's table (``NAME-progress.csv``), read as untrusted input: a regular
-    file of bounded size whose steps and learning times are numbers; else one ValueError
-    naming the file."""
+    file of bounded size whose ``columns`` (default: steps and learning times) are numbers;
+    else one ValueError naming the file."""
     path = Path(path)
     data = read_untrusted(path, "a learning summary file (NAME-progress.csv)")
     try:
         table = pd.read_csv(io.BytesIO(data))
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as error:
         raise ValueError(f"{path}: not a CSV table ({error})") from None
-    for column in (STEPS, "time/time_elapsed"):
+    for column in columns:
         values = pd.to_numeric(table.get(column), errors="coerce") if column in table else None
         if values is None or values.isna().any() or values.empty:
             raise ValueError(f"{path}: no numeric {column} column: is it a NAME-progress.csv?")
