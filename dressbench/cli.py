@@ -241,6 +241,9 @@ def train(resume: bool, **options: Any) -> None:
          help="Robot strategies to train for (repeatable: a grid axis).")  # fmt: skip
 @_option(TrainConfig, "ablation", "--ablation", "ablations", multiple=True,
          default=(TrainConfig.ablation,), help="Ablations (repeatable: a grid axis).")  # fmt: skip
+@_option(TrainConfig, "profile", "--profile", "profiles", multiple=True,
+         default=(TrainConfig.profile,),
+         help="Capability profiles (repeatable: a grid axis; see dressbench plugins).")  # fmt: skip
 @_option(TrainConfig, "seed", "--seed", "seeds", multiple=True, default=(TrainConfig.seed,),
          type=int, help="Training seeds (repeatable: a grid axis).")  # fmt: skip
 @_option(TrainConfig, "algo", "--algo", "algos", multiple=True, default=None,
@@ -262,17 +265,18 @@ def train(resume: bool, **options: Any) -> None:
 @_folder(decl="--results", help="The leaderboard's folder.")
 @_workers("Evaluation processes")
 @_BACKEND
-def sweep(robots, ablations, seeds, algos, episodes, results, workers, backend, address,
-          eval_gown_vertices, **options) -> None:  # fmt: skip
-    """Train a grid of human models (robots x ablations x seeds x algorithms), then score them
-    in one leaderboard. Each run is a normal run folder: re-running resumes."""
+def sweep(robots, ablations, profiles, seeds, algos, episodes, results, workers, backend,
+          address, eval_gown_vertices, **options) -> None:  # fmt: skip
+    """Train a grid of human models (robots x ablations x profiles x seeds x algorithms), then
+    score them in one leaderboard. Each run is a normal run folder: re-running resumes."""
     from .sweep import Sweep
     from .sweep import sweep as run_sweep
     from .training.config import option_changes
 
     if backend == "local":
         require_train_extra()  # on the ray backend, the workers train
-    grid = {"robot": robots, "ablation": ablations, "seed": seeds, "algo": algos}
+    axes = (robots, ablations, profiles, seeds, algos)
+    grid = dict(zip(("robot", "ablation", "profile", "seed", "algo"), axes, strict=True))
     config = Sweep({axis: values for axis, values in grid.items() if values},
                    option_changes(**options), episodes=episodes, results=results,
                    workers=workers, eval_gown_vertices=eval_gown_vertices)  # fmt: skip
@@ -331,7 +335,7 @@ def leaderboard_command(workers, out, robots, humans, report, **options):
 @click.option("--robot", required=True, help="The robot strategy to score.")
 @click.option("--from", "humans", multiple=True,
               help="Only these generalists (repeatable; default: all installed).")  # fmt: skip
-@_fields(ScoreOptions, "minutes", "episodes", "out", "runs", "policies")
+@_fields(ScoreOptions, "minutes", "episodes", "profile", "out", "runs", "policies")
 @_options(_SEED_OPTION, _workers(), _GOWN, _HORIZON)
 def score(robot, humans, seed, workers, gown_vertices, horizon, **options) -> None:
     """Score a robot strategy: fine-tune each generalist human on it (--minutes in all), then

@@ -7,12 +7,14 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-
-import pandas as pd
+from typing import TYPE_CHECKING, Any
 
 from .checks import check_folder
-from .config import AT_LEAST_ONE, option
+from .config import AT_LEAST_ONE, EnvConfig, option, option_like
+from .plugins.protocols import TYPICAL_PROFILE
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 GENERALIST = "generalist"  # the recipe of the generalists' group: humans generalist-sSEED
 TUNED = f"{GENERALIST}-tuned"  # a strategy's humans fine-tuned from them: ROBOT-TUNED-sSEED
@@ -31,6 +33,9 @@ class ScoreOptions:
     minutes: float = option(30.0, "Minutes of fine-tuning in all, shared among the generalist "
                             "seeds (0: score them as they are).", _check_minutes)  # fmt: skip
     episodes: int = option(100, "Rollouts per seed.", AT_LEAST_ONE)
+    profile: str = option_like(EnvConfig, "profile", EnvConfig.profile,
+                               "The capability profile the strategy is scored for: the "
+                               "generalists are fine-tuned and evaluated under it.")  # fmt: skip
     out: str = option("results/score", "Folder of the score's files (cells and strategy row).",
                       check_folder)  # fmt: skip
     runs: str = option("runs", "Folder of the fine-tuning runs.", check_folder)
@@ -72,18 +77,22 @@ def score(
 ) -> pd.DataFrame:
     """Fine-tune each generalist seed (``humans``: these; default every installed one) on
     ``robot`` for an equal share of ``options.minutes``, one after another on all cores, then
-    evaluate each tuned seed (each generalist as it is, for 0 minutes); return ``robot``'s rows
-    of the strategy table, also written to ``options.out``. A fine-tuning run resumes where an
+    evaluate each tuned seed (each generalist as it is, for 0 minutes), all under
+    ``options.profile``; return ``robot``'s rows of the strategy table, also written to
+    ``options.out``. A fine-tuning run resumes where an
     interrupted one stopped; finished rollouts are reused. ``env_options`` go to the
     evaluation's env (gown_vertices, horizon, ...); fine-tuning plays the same horizon on the
     recipe's training gown. The tuned humans go to ``options.policies``, which must be a folder
     dressbench finds humans in."""
-    from .evaluation import leaderboard
+    from .evaluation import leaderboard_results
     from .plugins import robot_plugin
     from .plugins.registry import policy_folders
+    from .preflight import profile_problem
 
     options = options or ScoreOptions()
-    robot_plugin(robot)  # an unknown strategy: one line, before anything runs
+    robot_plugin(robot)  # an unknown strategy or profile: one line, before anything runs
+    if problem := profile_problem(options.profile):
+        raise ValueError(f"capability profile {options.profile!r} cannot be scored: {problem}")
     seeds = generalists(humans)
     if options.minutes > 0.0 and Path(options.policies).resolve() not in [
         folder.resolve() for folder in policy_folders()
@@ -97,17 +106,19 @@ def score(
         horizon = env_options.get("horizon")
         scored = [_fine_tune(robot, name, seeds[name], minutes, options, progress, horizon)
                   for name in seeds]  # fmt: skip
-    leaderboard(options.episodes, seed, workers, options.out, humans=scored, robots=[robot],
-                progress=progress, **env_options)  # fmt: skip
-    table = pd.read_csv(Path(options.out, "strategies.csv"))
+    table = leaderboard_results(options.episodes, seed, workers, options.out, humans=scored,
+                                robots=[robot], progress=progress, profile=options.profile,
+                                **env_options).strategies  # fmt: skip
     rows = table[table["robot"] == robot].reset_index(drop=True)
     rows.attrs["seconds"] = time.monotonic() - started
     return rows
 
 
-def tuned_name(robot: str, seed: int) -> str:
-    """The name of ``robot``'s human fine-tuned from the generalist of ``seed``."""
-    return f"{robot}-{TUNED}-s{seed}"
+def tuned_name(robot: str, seed: int, profile: str = TYPICAL_PROFILE) -> str:
+    """The name of ``robot``'s human fine-tuned from the generalist of ``seed`` (for a capability
+    profile not typical, its name too)."""
+    profiled = "" if profile == TYPICAL_PROFILE else f"-{profile}"
+    return f"{robot}-{TUNED}{profiled}-s{seed}"
 
 
 def _fine_tune(robot: str, parent: str, seed: int, minutes: float, options: ScoreOptions,
@@ -115,9 +126,9 @@ def _fine_tune(robot: str, parent: str, seed: int, minutes: float, options: Scor
     """Fine-tune ``parent`` on ``robot`` for ``minutes`` of learning; the tuned human's name."""
     from .training import train, train_config
 
-    name = tuned_name(robot, seed)
+    name = tuned_name(robot, seed, options.profile)
     config = train_config(resume=True, robot=robot, init=parent, seed=seed, hours=minutes / 60.0,
                           name=name, out=options.runs, policies=options.policies,
-                          horizon=horizon)  # fmt: skip
+                          horizon=horizon, profile=options.profile)  # fmt: skip
     train(config, progress=progress)
     return name

@@ -23,7 +23,7 @@ from .training.config import TrainConfig
 if TYPE_CHECKING:
     import pandas as pd
 
-NAMED_AXES = ("robot", "ablation", "algo", "seed")  # already in a run's default name
+NAMED_AXES = ("robot", "ablation", "profile", "algo", "seed")  # already in a run's default name
 ENV_FIELDS = ("horizon",)  # the leaderboard's env too: one value per sweep
 
 
@@ -132,14 +132,14 @@ def _connected(where: Backend) -> AbstractContextManager[Any]:
 
 
 def _check_runs(runs: Sequence[TrainConfig]) -> None:
-    """Before any training: distinct names, each robot checked once (``TrainConfig.check``),
-    and a policies folder the registry looks in."""
+    """Before any training: distinct names, each robot and capability profile checked once
+    (``TrainConfig.check``), and a policies folder the registry looks in."""
     from .plugins.registry import policy_folders
 
     names = [run.run_name for run in runs]
     if len(set(names)) < len(names):
         raise ValueError(f"two runs of the grid share a name: {sorted(names)}")
-    for run in {run.robot: run for run in runs}.values():
+    for run in {(run.robot, run.profile): run for run in runs}.values():
         run.check()
     searched = policy_folders()
     for folder in {Path(run.policies) for run in runs}:

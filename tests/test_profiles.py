@@ -8,6 +8,7 @@ them); the third-party profiles are fake distributions on ``sys.path`` (``tests/
 
 from __future__ import annotations
 
+import shutil
 from types import SimpleNamespace
 
 import numpy as np
@@ -19,6 +20,7 @@ from dressbench.config import EnvConfig
 from dressbench.env import HUMAN, ROBOT, DressingEnv
 from dressbench.evaluation.cells import make_cell
 from dressbench.evaluation.listing import plugin_rows
+from dressbench.evaluation.rollouts import Runner
 from dressbench.factory import make_human_env
 from dressbench.plugins import (
     PROFILE_GROUP,
@@ -29,6 +31,7 @@ from dressbench.plugins import (
     load_profile,
     load_robot,
     profile_plugins,
+    refresh,
 )
 from dressbench.plugins.profiles import (
     RIGHT_ARM,
@@ -258,6 +261,18 @@ def test_a_third_party_profile_is_listed_checked_and_used(site):
     assert env.scene.human.upper[DOF_NAMES.index("elbow_r_flexion")] == 1.0
     elbow = maximal(env, 40, [np.ones(11)])[:, DOF_NAMES.index("elbow_r_flexion")]
     assert elbow.max() <= 1.0 + LIMIT_TOLERANCE
+
+
+def test_a_profile_upgraded_while_its_cell_is_running_is_refused(site):
+    install(site, "acme-bodies", "2.0", {PROFILES: {"stiff": "acme_bodies:Stiff"}},
+            acme_bodies=STIFF)  # fmt: skip
+    cell = make_cell("fixed", "passive", profile="stiff", horizon=2, **SMALL)
+    Runner(cell)  # as made
+    shutil.rmtree(site / "acme_bodies-2.0.dist-info")
+    install(site, "acme-bodies", "2.1", {PROFILES: {"stiff": "acme_bodies:Stiff"}})
+    refresh()
+    with pytest.raises(RuntimeError, match=r"changed since the evaluation started \(.*2\.1"):
+        Runner(cell)
 
 
 # --- a broken profile is one line naming it ------------------------------------------------------

@@ -160,6 +160,9 @@ def test_a_sweeps_grid_is_every_combination_each_named_as_train_names_it(tmp_pat
         for seed in (0, 1)
     ]
     assert {(run.timesteps, run.envs, run.out) for run in runs} == {(64, 1, str(tmp_path))}
+    profiled = Sweep({"robot": ["fixed"], "profile": ["typical", "weak_arm"]}).runs()
+    assert [run.run_name for run in profiled] == ["fixed-complete-trpo-s0",
+                                                  "fixed-complete-weak_arm-trpo-s0"]  # fmt: skip
     for bad, message in [
         ({"grid": {"colour": ["red"]}}, "not TrainConfig fields: colour"),
         ({"grid": {"seed": []}}, "grid axis seed has no values"),

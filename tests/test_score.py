@@ -56,6 +56,28 @@ def test_score_fine_tunes_each_seed_for_its_share_of_the_minutes_then_scores_the
         assert 0.05 * 60 <= learned < 0.05 * 60 + 15  # stopped where its share ran out
 
 
+def test_score_under_a_profile_scores_the_generalists_with_that_body(two_generalists):
+    out = two_generalists / "score"
+    result = CliRunner().invoke(main, ["score", "--robot", "fixed", "--minutes", "0",
+                                       "--profile", "weak_arm", "--episodes", "1",
+                                       "--gown-vertices", "300", "--horizon", "24", "--workers",
+                                       "1", "--out", str(out)])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    table = pd.read_csv(out / "strategies.csv")
+    assert list(table.loc[table["robot"] == "fixed", "profile"]) == ["weak_arm"]
+
+
+def test_a_tuned_human_is_named_for_its_strategy_seed_and_profile():
+    assert tuned_name("arc", 2) == "arc-generalist-tuned-s2"
+    assert tuned_name("arc", 2, "weak_arm") == "arc-generalist-tuned-weak_arm-s2"
+
+
+def test_score_refuses_an_unknown_profile_in_one_line(two_generalists):
+    result = CliRunner().invoke(main, ["score", "--robot", "fixed", "--profile", "nobody"])
+    assert result.exit_code == 1, result.output
+    assert result.output.startswith("Error: capability profile 'nobody' cannot be scored: ")
+
+
 def test_without_a_generalist_score_says_how_to_train_one(tmp_path, policies_on_path):
     with pytest.raises(ValueError, match=r"^no generalist human is installed: train one"):
         generalists()

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
         is_success,
         run_episode,
     )
-    from .runs import evaluate, leaderboard
+    from .runs import Evaluated, evaluate, leaderboard, leaderboard_results
     from .statistics import bootstrap_ci, curve_table, leaderboard_table
     from .strategies import improvement_table, strategy_table
 
@@ -38,8 +38,10 @@ _MODULES = {
     "episode_seed": "rollouts",
     "is_success": "rollouts",
     "run_episode": "rollouts",
+    "Evaluated": "runs",
     "evaluate": "runs",
     "leaderboard": "runs",
+    "leaderboard_results": "runs",
     "bootstrap_ci": "statistics",
     "curve_table": "statistics",
     "leaderboard_table": "statistics",
@@ -49,6 +51,7 @@ _MODULES = {
 __all__ = [
     "Cell",
     "EpisodeRecord",
+    "Evaluated",
     "Runner",
     "SUCCESS_DEPTH",
     "bootstrap_ci",
@@ -59,6 +62,7 @@ __all__ = [
     "is_success",
     "leaderboard",
     "leaderboard_cells",
+    "leaderboard_results",
     "leaderboard_table",
     "make_cell",
     "run_episode",

@@ -124,7 +124,7 @@ def reproduce(
     if not humans:
         raise ValueError("no trained human for any of the paper's policies: train one first")
     cells = reproduction_cells(humans, **options)
-    table, board = evaluate_cells(
+    evaluated = evaluate_cells(
         cells,
         episodes,
         seed,
@@ -136,7 +136,7 @@ def reproduce(
         options,
         backend=where,
     )
-    return write_comparison(Path(out), table, humans, seed)
+    return write_comparison(Path(out), evaluated.episodes, humans, seed)
 
 
 def write_comparison(

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ..metrics import STAGE_DEPTHS
-from .cells import Cell, make_cell, plugin_identities
+from .cells import Cell, make_cell, plugin_identities, profile_identity
 from .identity import difference, same
 
 # Success: the arm through the sleeve opening past the elbow (metrics.STAGE_DEPTHS)
@@ -113,7 +113,8 @@ class Runner:
         self.cell = cell
         robot, human = cell.resolved()
         self.policy = human.factory()
-        _check_unchanged(cell, plugin_identities(robot, human, self.policy))
+        plugins = plugin_identities(robot, human, self.policy) | profile_identity(cell.profile)
+        _check_unchanged(cell, plugins)
         self.env = make_human_env(robot, human=self.policy, **cell.options)
         self.horizon = cell.config().horizon
 
@@ -154,9 +155,10 @@ class Runner:
 
 
 def _check_unchanged(cell: Cell, plugins: dict[str, Any]) -> None:
-    """Refuse to run a cell whose robot or human is no longer what the cell was made with
-    (e.g. a policy file replaced, or a plugin upgraded, while an evaluation runs)."""
-    expected = {"robot": cell.identity["robot"], "human": cell.identity["human"]}
+    """Refuse to run a cell whose robot, human or capability profile is no longer what the cell
+    was made with (e.g. a policy file replaced, or a plugin upgraded, while an evaluation runs)."""
+    expected = {who: cell.identity[who] for who in ("robot", "human", "profile")
+                if who in cell.identity}  # fmt: skip
     if not same(plugins, expected):
         raise RuntimeError(
             f"{cell.robot!r} x {cell.human!r} changed since the evaluation started "

@@ -10,7 +10,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import replace
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import pandas as pd
 from tqdm.auto import tqdm
@@ -30,6 +30,15 @@ from .statistics import CONFIDENCE, RESAMPLES, curve_table, leaderboard_table
 from .store import cell_folder, load_record, report_earlier_rollouts, save_record
 from .strategies import write_strategies
 from .workers import Failure, Task, default_timeout, run_tasks
+
+
+class Evaluated(NamedTuple):
+    """What an evaluation wrote, as tables: its episodes (episodes.csv), its cells
+    (leaderboard.csv) and its strategies (strategies.csv)."""
+
+    episodes: pd.DataFrame
+    leaderboard: pd.DataFrame
+    strategies: pd.DataFrame
 
 
 def evaluate(
@@ -62,14 +71,13 @@ def evaluate(
     """
     where = check_run(episodes, seed, workers, out, backend, address, episode_timeout)
     cell = checked_cell(robot, human, **options)
-    episodes_table, _ = evaluate_cells(
+    return evaluate_cells(
         [cell], episodes, seed, workers, Path(out), success_depth, progress, "evaluate", options,
         backend=where, episode_timeout=episode_timeout,
-    )  # fmt: skip
-    return episodes_table
+    ).episodes  # fmt: skip
 
 
-def leaderboard(
+def leaderboard_results(
     episodes: int = 100,
     seed: int = 0,
     workers: int | None = None,
@@ -83,12 +91,12 @@ def leaderboard(
     address: str | None = None,
     episode_timeout: float | None = None,
     **options: Any,
-) -> pd.DataFrame:
+) -> Evaluated:
     """Evaluate every robot strategy against the humans meant for it; write the combined files.
 
     The cells are every ok robot plugin × every ok human plugin trained for it or generic
     (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
-    restrict the names. Returns the leaderboard table (as in leaderboard.csv). ``backend``,
+    restrict the names. Returns the three tables it writes (``Evaluated``). ``backend``,
     ``address`` and ``episode_timeout`` are those of ``evaluate``; a cell whose episode fails is
     left out with a warning naming the plugin, its package and the episode's seed (run_meta.json
     lists it), and the others are scored.
@@ -99,11 +107,16 @@ def leaderboard(
         raise ValueError(
             "nothing to evaluate: no usable robot strategy with a usable human meant for it"
         )
-    _, board = evaluate_cells(
+    return evaluate_cells(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options,
         backend=where, episode_timeout=episode_timeout,
     )  # fmt: skip
-    return board
+
+
+def leaderboard(*args: Any, **kwargs: Any) -> pd.DataFrame:
+    """``leaderboard_results`` (the same arguments), returning its leaderboard table (as in
+    leaderboard.csv): every robot strategy evaluated against the humans meant for it."""
+    return leaderboard_results(*args, **kwargs).leaderboard
 
 
 def check_run(
@@ -145,12 +158,9 @@ def evaluate_cells(
     *,
     backend: Backend,
     episode_timeout: float | None = None,
-) -> tuple[pd.DataFrame, pd.DataFrame]:
+) -> Evaluated:
     """Run what is missing of ``episodes`` per cell on ``backend``, saving each as it finishes;
-    then summarize the cells none of whose episodes failed (the failed ones: a warning each).
-
-    Returns the episodes table and the leaderboard table.
-    """
+    then summarize the cells none of whose episodes failed (the failed ones: a warning each)."""
     started, clock = datetime.now(timezone.utc), time.perf_counter()
     warn_losing_duplicates(cells)
     claim(out)
@@ -243,9 +253,9 @@ def evaluate_cells(
         "versions": versions(),
         "git_commit": git_commit(),
     }
-    write_strategies(out, table, seed)  # before the summary, whose README lists them
+    strategies = write_strategies(out, table, seed)  # before the summary, whose README lists them
     write_summary(out, curves, board, meta, success_depth)
-    return table, board
+    return Evaluated(table, board, strategies)
 
 
 def _default_timeout(cell: Cell) -> float:
