@@ -313,18 +313,27 @@ def evaluate(ctx: click.Context, robot, human, out, **options):
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")
 @click.option("--report", is_flag=True,
               help="Also write OUT/report/index.html (a web page with videos).")  # fmt: skip
+@click.option("--doc", type=click.Path(dir_okay=False, exists=True),
+              help="Also rewrite this doc's strategies block with the strategy table "
+                   "(README.md).")  # fmt: skip
 @_EPISODE_TIMEOUT
 @_BACKEND
-def leaderboard_command(workers, out, robots, humans, report, **options):
+def leaderboard_command(workers, out, robots, humans, report, doc, **options):
     """Every robot strategy against the humans trained for it and the baselines.
 
     Finished rollouts in OUT are reused, so a leaderboard can be built a few cells at a time.
     """
-    from .evaluation import leaderboard
+    from .evaluation import leaderboard_results
+    from .evaluation.strategies import STRATEGIES_BLOCK, strategy_rows_markdown
 
-    leaderboard(workers=workers, out=out, robots=robots or None, humans=humans or None,
-                **_stated(options))  # fmt: skip
+    if doc:
+        STRATEGIES_BLOCK.read(doc)  # a doc without the block fails before anything runs
+    results = leaderboard_results(workers=workers, out=out, robots=robots or None,
+                                  humans=humans or None, **_stated(options))  # fmt: skip
     click.echo(f"leaderboard in {Path(out, 'leaderboard.md')}, plots in {Path(out, '*.png')}")
+    if doc:
+        STRATEGIES_BLOCK.write(doc, strategy_rows_markdown(results.strategies))
+        click.echo(f"strategies block of {doc} rewritten from {Path(out, 'strategies.csv')}")
     if report:
         from .evaluation.webpage import write_report
 

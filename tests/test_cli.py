@@ -9,6 +9,7 @@ from click.testing import CliRunner
 
 from dressbench.cli import main
 from dressbench.config import EnvConfig
+from dressbench.evaluation.strategies import STRATEGIES_BLOCK
 from dressbench.scene.garment import GownConfig
 from dressbench.scene.world import SceneConfig
 from dressbench.sweep import Sweep
@@ -70,14 +71,28 @@ def test_reproduce_refuses_a_human_that_plays_none_of_the_papers_policies_in_one
     assert "Traceback" not in result.output and not list(tmp_path.iterdir())
 
 
-def test_reproduce_refuses_a_doc_without_a_results_block_before_it_evaluates(tmp_path):
+def test_leaderboard_writes_its_strategy_table_into_a_docs_block(tmp_path):
+    doc = tmp_path / "README.md"
+    doc.write_text(f"# Results\n{STRATEGIES_BLOCK.begin}\nold\n{STRATEGIES_BLOCK.end}\nKept.\n")
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["evaluate", "leaderboard", "--robot", "fixed", "--human",
+                                       "passive", "--episodes", "1", "--horizon", "4",
+                                       "--gown-vertices", "300", "--workers", "1", "--out",
+                                       str(out), "--doc", str(doc)])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert (out / "strategies.md").read_text().endswith(STRATEGIES_BLOCK.read(doc))
+    assert "no trained human" in STRATEGIES_BLOCK.read(doc) and doc.read_text().endswith("Kept.\n")
+
+
+@pytest.mark.parametrize(
+    ("command", "block"), [("leaderboard", "strategies"), ("reproduce", "results")]
+)
+def test_a_doc_without_its_block_is_refused_before_anything_is_evaluated(command, block, tmp_path):
     doc = tmp_path / "notes.md"
     doc.write_text("# Notes\n\nno block here\n")
     out = tmp_path / "out"
-    result = CliRunner().invoke(
-        main, ["evaluate", "reproduce", "--doc", str(doc), "--out", str(out)]
-    )
-    assert result.exit_code == 1 and "has no results block" in result.output
+    result = CliRunner().invoke(main, ["evaluate", command, "--doc", str(doc), "--out", str(out)])
+    assert result.exit_code == 1 and f"has no {block} block" in result.output
     assert len(result.output.strip().splitlines()) == 1 and not out.exists()
 
 

@@ -1,5 +1,7 @@
 """A strategy's score: humans grouped by training, two-level bootstrap, ranks, P(improvement)."""
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -15,7 +17,9 @@ from dressbench.evaluation.schema import EPISODE_COLUMNS
 from dressbench.evaluation.statistics import bootstrap_ci
 from dressbench.evaluation.strategies import (
     ONE_SEED,
+    STRATEGIES_BLOCK,
     improvement_table,
+    strategy_rows_markdown,
     strategy_table,
     write_strategies,
 )
@@ -262,3 +266,24 @@ def test_without_trained_humans_the_table_says_so_and_no_figure_is_left(tmp_path
     write_strategies(tmp_path, episodes({("fixed", "passive"): np.zeros(3)}))
     assert "no trained human" in (tmp_path / "strategies.md").read_text()
     assert not (tmp_path / "strategies.png").exists()
+
+
+def test_the_readme_states_the_committed_strategy_table():
+    """README.md's strategies block is the table of results/strategies.md, as written."""
+    root = Path(__file__).resolve().parents[1]
+    committed = (root / "results" / "strategies.md").read_text()
+    assert committed.endswith("\n\n" + STRATEGIES_BLOCK.read(root / "README.md"))
+
+
+def test_a_docs_strategies_block_is_rewritten_and_the_rest_kept(tmp_path):
+    doc = tmp_path / "README.md"
+    doc.write_text(
+        f"# Title\n\n{STRATEGIES_BLOCK.begin}\nold table\n{STRATEGIES_BLOCK.end}\n\nMore.\n"
+    )
+    table = write_strategies(tmp_path, episodes(seeds_of("fixed", [0.3, 0.4])))
+    STRATEGIES_BLOCK.write(doc, strategy_rows_markdown(table))
+    assert (tmp_path / "strategies.md").read_text().endswith(STRATEGIES_BLOCK.read(doc))
+    assert "old table" not in doc.read_text() and doc.read_text().endswith("\n\nMore.\n")
+    doc.write_text(f"{STRATEGIES_BLOCK.end}\n{STRATEGIES_BLOCK.begin}\n")  # out of order
+    with pytest.raises(ValueError, match=r"README.md has no strategies block"):
+        STRATEGIES_BLOCK.read(doc)

@@ -25,6 +25,7 @@ from ..files import write_csv, write_png, write_text
 from ..plugins import human_plugins, load_human
 from .bootstrap import two_level_draws
 from .cells import checked_cell
+from .docblock import DocBlock
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import RESAMPLES
@@ -393,6 +394,7 @@ def _rate_cell(row: Any, stage: str) -> str:
 
 DOC_BEGIN = "<!-- begin results: written by `dressbench evaluate reproduce --doc` -->"
 DOC_END = "<!-- end results -->"
+RESULTS_BLOCK = DocBlock("results", DOC_BEGIN, DOC_END)
 
 
 def doc_results(out: str | os.PathLike) -> str:
@@ -407,21 +409,9 @@ def doc_results(out: str | os.PathLike) -> str:
 
 def documented_results(doc: str | os.PathLike) -> str:
     """The results block of a doc: the text between its markers (ValueError without them)."""
-    _, block, _ = _results_block(doc)
-    return block.strip("\n") + "\n"
+    return RESULTS_BLOCK.read(doc)
 
 
 def write_doc_results(doc: str | os.PathLike, out: str | os.PathLike) -> None:
     """Rewrite a doc's results block from the comparison in ``out``."""
-    head, _, tail = _results_block(doc)
-    write_text(Path(doc), f"{head}{DOC_BEGIN}\n{doc_results(out)}{DOC_END}{tail}")
-
-
-def _results_block(doc: str | os.PathLike) -> tuple[str, str, str]:
-    """A doc's text before its results block, the block, and the text after it."""
-    text = Path(doc).read_text()
-    if DOC_BEGIN not in text or DOC_END not in text:
-        raise ValueError(f"{doc} has no results block ({DOC_BEGIN!r} ... {DOC_END!r})")
-    head, rest = text.split(DOC_BEGIN, 1)
-    block, tail = rest.split(DOC_END, 1)
-    return head, block, tail
+    RESULTS_BLOCK.write(doc, doc_results(out))

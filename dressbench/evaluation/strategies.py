@@ -24,6 +24,7 @@ import pandas as pd
 
 from ..files import write_csv, write_png, write_text
 from .bootstrap import Draws, improvement, observed, percentile_interval, two_level_draws
+from .docblock import DocBlock
 from .groups import TrainedHuman, trained_humans
 from .plots import profiles_figure, strategies_figure
 from .schema import (
@@ -194,11 +195,17 @@ STRATEGY_CAPTION = (
 
 def strategies_markdown(table: pd.DataFrame) -> str:
     """The strategy table in Markdown under a caption that defines every number in it."""
+    return (
+        "\n".join(["# dressbench strategies", "", STRATEGY_CAPTION, ""])
+        + "\n"
+        + (strategy_rows_markdown(table))
+    )
+
+
+def strategy_rows_markdown(table: pd.DataFrame) -> str:
+    """The strategy table's Markdown table alone (strategies.md's, and a doc's strategies
+    block: ``STRATEGIES_BLOCK``)."""
     lines = [
-        "# dressbench strategies",
-        "",
-        STRATEGY_CAPTION,
-        "",
         "| rank | robot | recipe | ablation | profile | seeds | episodes "
         "| final arm progress (m) | max deformation | hand in | past the elbow (success) "
         "| dressed | note |",
@@ -213,6 +220,14 @@ def strategies_markdown(table: pd.DataFrame) -> str:
     if table.empty:
         lines.append("| | no trained human in these results | | | | | | | | | | | |")
     return "\n".join(lines) + "\n"
+
+
+# A doc's copy of the strategy table (the README's), which `evaluate leaderboard --doc` rewrites
+STRATEGIES_BLOCK = DocBlock(
+    "strategies",
+    "<!-- begin strategies: written by `dressbench evaluate leaderboard --doc` -->",
+    "<!-- end strategies -->",
+)
 
 
 def improvement_markdown(table: pd.DataFrame) -> str:
