@@ -195,11 +195,7 @@ STRATEGY_CAPTION = (
 
 def strategies_markdown(table: pd.DataFrame) -> str:
     """The strategy table in Markdown under a caption that defines every number in it."""
-    return (
-        "\n".join(["# dressbench strategies", "", STRATEGY_CAPTION, ""])
-        + "\n"
-        + (strategy_rows_markdown(table))
-    )
+    return f"# dressbench strategies\n\n{STRATEGY_CAPTION}\n\n{strategy_rows_markdown(table)}"
 
 
 def strategy_rows_markdown(table: pd.DataFrame) -> str:
