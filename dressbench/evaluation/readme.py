@@ -174,9 +174,9 @@ def _checkpoint_line(run: Path, folder: Path) -> str:
 
 
 def _continue_command(config: dict[str, Any], name: str) -> str:
-    """The train command that resumes a run as it was configured: a resumed run takes its
-    options from the command, so whatever today's recipe sets otherwise (the seed, the tear
-    limit, a part the run turned off) is stated."""
+    """The train command that resumes a run as it was configured. Options left out continue as
+    run.json records them, but a record older than a setting (a run from before the tear limit)
+    would continue with today's default for it, so each setting that shaped the run is stated."""
     recipe = config.get("recipe", "default")
     flags = [f"--robot {config['robot']}", f"--ablation {config['ablation']}"]
     if recipe != "default":
