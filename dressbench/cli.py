@@ -373,16 +373,18 @@ def score(robot, humans, seed, workers, gown_vertices, horizon, **options) -> No
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "
                    "the paper's policies).")  # fmt: skip
+@_option(TrainConfig, "recipe", help="Without --human: the recipe whose humans play the "
+         "paper's policies (trained in the typical body).")  # fmt: skip
 @click.option("--doc", type=click.Path(dir_okay=False, exists=True),
               help="Also rewrite this doc's results block (docs/reproduction.md).")  # fmt: skip
 @_BACKEND
-def reproduce_command(out, humans, doc, **options):
+def reproduce_command(out, humans, recipe, doc, **options):
     """The paper's comparison: its five policies, the cross-play, a verdict per claim."""
     from .evaluation import reproduction
 
     if doc:
         reproduction.documented_results(doc)  # a doc without a results block fails before
-    humans = reproduction.paper_humans(humans or None)
+    humans = reproduction.paper_humans(humans or None, recipe)
     claims = reproduction.reproduce(out=out, humans=humans, **options)
     for claim in claims.itertuples():
         click.echo(f"claim {claim.claim}: {claim.verdict}")

@@ -277,8 +277,8 @@ def test_a_mistyped_policies_folder_is_named(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize(
     ("name", "provider"),
-    [("crashy", f"human plugin 'crashy' {FROM}"), ("fixed-fine-gown-s0", "human plugin "
-     "'fixed-fine-gown-s0' from policy file ")],
+    [("crashy", f"human plugin 'crashy' {FROM}"), ("fixed-default-s0", "human plugin "
+     "'fixed-default-s0' from policy file ")],
 )  # fmt: skip
 def test_train_refuses_a_name_another_plugin_or_a_shipped_policy_provides(
     hostile, tmp_path, name, provider

@@ -13,7 +13,7 @@ from dressbench.factory import make_human_env
 from dressbench.plugins import load_human
 from dressbench.scene.world import SceneConfig
 
-ROBOT, HUMAN = "front_linear", "front_linear-fine-gown-s0"  # a shipped human of delta actuation
+ROBOT, HUMAN = "front_linear", "front_linear-default-s0"  # a shipped human of delta actuation
 SEED = 3757552657
 SMALL = {"gown_vertices": 300, "horizon": 40}
 

@@ -380,7 +380,7 @@ def test_a_human_that_does_not_declare_a_profile_is_typical_and_baselines_run_un
     assert make_human_env("fixed", human=undeclared, horizon=2, **SMALL).env.config.profile == (
         "typical"
     )
-    shipped = load_human("fixed-fine-gown-s0")  # a policy file made before profiles
+    shipped = load_human("fixed-default-s0")  # a policy file made before profiles
     assert shipped.profile == "typical"
     env = make_human_env("fixed", human="scripted", profile="limited_shoulder", horizon=2, **SMALL)
     assert env.env.config.profile == "limited_shoulder"

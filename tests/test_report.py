@@ -21,7 +21,7 @@ from dressbench.evaluation.strategies import write_strategies
 from dressbench.evaluation.webpage import write_report
 
 HUMANS = ["passive", "scripted"]
-TRAINED = ["fixed-fine-gown-s0", "fixed-fine-gown-s1"]
+TRAINED = ["fixed-default-s0", "fixed-default-s1"]
 
 
 @pytest.fixture(scope="module")

@@ -104,17 +104,19 @@ def test_a_roles_interval_spans_what_its_seeds_give_not_only_their_rollouts():
 
 @pytest.fixture(scope="module")
 def trained(tmp_path_factory):
-    """Tiny real policies for three of the paper's roles, found through DRESSBENCH_POLICIES."""
+    """Tiny real policies for three of the paper's roles, and one trained in another body, found
+    through DRESSBENCH_POLICIES."""
     folder = tmp_path_factory.mktemp("reproduction")
     where = {"out": str(folder / "runs"), "policies": str(folder / "policies")}
     tiny = {"gown_vertices": 600, "horizon": 16, "samples_per_update": 128, "envs": 1,
             "timesteps": 64, **where}  # fmt: skip
-    for robot, ablation in (
-        ("fixed", "complete"),
-        ("fixed", "no_haptics"),
-        ("front_linear", "complete"),
+    for robot, ablation, profile in (
+        ("fixed", "complete", "typical"),
+        ("fixed", "no_haptics", "typical"),
+        ("front_linear", "complete", "typical"),
+        ("fixed", "complete", "tremor"),
     ):
-        train(TrainConfig(robot=robot, ablation=ablation, **tiny), progress=False)
+        train(TrainConfig(robot=robot, ablation=ablation, profile=profile, **tiny), progress=False)
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("DRESSBENCH_POLICIES", str(folder / "policies"))
         plugins.refresh()
@@ -135,6 +137,13 @@ def test_the_trained_humans_play_the_roles_of_their_robot_and_ablation(trained):
     humans = paper_humans()
     assert humans[ROLES[0]] == ["fixed-complete-trpo-s0"]
     assert humans[ROLES[1]] == ["fixed-no_haptics-trpo-s0"] and humans[ROLES[2]] == []
+
+
+def test_a_role_takes_the_seeds_of_one_recipe_in_the_typical_body_unless_humans_are_named(trained):
+    assert paper_humans(recipe="trpo")[ROLES[0]] == ["fixed-complete-trpo-s0"]
+    assert not any(paper_humans(recipe="default").values())
+    named = paper_humans(["fixed-complete-tremor-trpo-s0"])
+    assert named[ROLES[0]] == ["fixed-complete-tremor-trpo-s0"]
 
 
 def test_reproduce_scores_each_role_and_the_cross_play_and_writes_the_figures(compared):

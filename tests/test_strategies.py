@@ -53,9 +53,9 @@ def seeds_of(robot: str, means: list[float], spread: float = 0.05, n: int = 100,
 
 
 def test_a_policy_file_gives_its_group_and_seed():
-    policy = load_policy(human_plugins()["fixed-fine-gown-s1"].value)
+    policy = load_policy(human_plugins()["fixed-no_haptics-default-s0"].value)
     assert human_group(policy.name, "fixed", "complete", policy.metadata) == TrainedHuman(
-        "fixed", "fine-gown", "complete", 1
+        "fixed", "default", "no_haptics", 0
     )
 
 
@@ -178,7 +178,7 @@ def test_only_strategies_of_one_recipe_and_ablation_compete():
 
 
 def test_a_human_on_a_strategy_it_was_not_trained_for_is_left_out():
-    scores = seeds_of("fixed", [0.4]) | {("front_linear", "fixed-fine-gown-s0"): np.ones(100)}
+    scores = seeds_of("fixed", [0.4]) | {("front_linear", "fixed-default-s0"): np.ones(100)}
     assert list(strategy_table(episodes(scores), resamples=500)["robot"]) == ["fixed"]
 
 

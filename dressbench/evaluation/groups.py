@@ -35,7 +35,7 @@ def human_group(
     (a baseline such as ``passive``, or a name that says nothing of a seed).
 
     ``metadata`` is its policy file's (``TrainedPolicy.metadata``); without it (a name no longer
-    spelled = _NAME.fullmatch(_strip(_strip(_strip(name, robot), ablation), profile))
+    installed), the name tells: ROBOT-[ABLATION-][PROFILE-]RECIPE-sSEED[-SUFFIXES].
     """
     config = (metadata or {}).get("config") or {}
     profile = (metadata or {}).get("profile", TYPICAL_PROFILE)

@@ -22,10 +22,11 @@ import pandas as pd
 
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
-from ..plugins import human_plugins, load_human
+from ..plugins import TYPICAL_PROFILE, human_plugins, load_human
 from .bootstrap import two_level_draws
 from .cells import checked_cell
 from .docblock import DocBlock
+from .groups import human_group
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import RESAMPLES
@@ -77,9 +78,13 @@ ROLE_COLUMNS = [
 ]
 
 
-def paper_humans(names: Iterable[str] | None = None) -> dict[Role, list[str]]:
-    """The humans (of ``names``, default every usable one) that play each role: trained for its
-    robot, with its ablation. A named human that plays no role is a ValueError."""
+def paper_humans(
+    names: Iterable[str] | None = None, recipe: str | None = None
+) -> dict[Role, list[str]]:
+    """The humans that play each role: trained for its robot, with its ablation. ``names``
+    chooses them (one that plays no role is a ValueError); by default, every usable human that
+    is a seed of ``recipe`` (of any, when None) trained in the typical body, so that one role
+    never mixes recipes or bodies."""
     found: dict[Role, list[str]] = {role: [] for role in ROLES}
     records = human_plugins()
     chosen = sorted(records) if names is None else list(names)
@@ -89,10 +94,19 @@ def paper_humans(names: Iterable[str] | None = None) -> dict[Role, list[str]]:
         policy = load_human(name)
         role = Role(str(getattr(policy, "robot", None)), policy.ablation)
         if role in found:
+            if names is None and not _seed_of(name, policy, recipe):
+                continue
             found[role].append(name)
         elif names is not None:
             raise ValueError(f"human {name!r} plays none of the paper's policies ({role.name})")
     return found
+
+
+def _seed_of(name: str, policy: Any, recipe: str | None) -> bool:
+    """Whether the human ``name`` is a seed of ``recipe`` (any, when None) in the typical body."""
+    metadata = getattr(policy, "metadata", None)
+    human = human_group(name, str(policy.robot), policy.ablation, metadata)
+    return human is not None and human.profile == TYPICAL_PROFILE and recipe in (None, human.recipe)
 
 
 def reproduction_cells(humans: Mapping[Role, Sequence[str]], **options: Any) -> list:
