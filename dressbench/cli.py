@@ -373,8 +373,9 @@ def score(robot, humans, seed, workers, gown_vertices, horizon, **options) -> No
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "
                    "the paper's policies).")  # fmt: skip
-@_option(TrainConfig, "recipe", help="Without --human: the recipe whose humans play the "
-         "paper's policies (trained in the typical body).")  # fmt: skip
+@click.option("--recipe", help="Without --human: only the seeds of this recipe play the "
+              "paper's policies (default: every recipe's; always those of the typical "
+              "body).")  # fmt: skip
 @click.option("--doc", type=click.Path(dir_okay=False, exists=True),
               help="Also rewrite this doc's results block (docs/reproduction.md).")  # fmt: skip
 @_BACKEND

@@ -83,8 +83,8 @@ def paper_humans(
 ) -> dict[Role, list[str]]:
     """The humans that play each role: trained for its robot, with its ablation. ``names``
     chooses them (one that plays no role is a ValueError); by default, every usable human that
-    is a seed of ``recipe`` (of any, when None) trained in the typical body, so that one role
-    never mixes recipes or bodies."""
+    is a seed of ``recipe`` (of any, when None) trained in the typical body, so that a role
+    never mixes capability profiles (nor recipes, given one)."""
     found: dict[Role, list[str]] = {role: [] for role in ROLES}
     records = human_plugins()
     chosen = sorted(records) if names is None else list(names)
