@@ -87,6 +87,16 @@ def test_a_claim_whose_policy_was_not_trained_is_not_measured():
     assert found == [HOLDS, UNMEASURED, HOLDS, UNMEASURED, UNMEASURED]
 
 
+def test_a_verdict_resting_on_a_role_of_one_seed_says_so():
+    table = roles_table(role(0.5, 1.4, 0.7), role(0.4, 6.0), role(0.05, 1.3), role(0.6, 1.5, 0.8),
+                        role(0.62, 1.5, 0.8))  # fmt: skip
+    table["humans"] = ["a-s0 a-s1 a-s2", "b-s0", "c-s0 c-s1", "d-s0 d-s1 d-s2", "e-s0 e-s1"]
+    because = claims_table(table, LIMIT).set_index("claim")["because"]
+    assert because[2].endswith("; one seed of no_haptics on fixed: its interval covers that "
+                               "human's rollouts only")  # fmt: skip
+    assert "one seed" not in because[1] + because[3] + because[4] + because[5]
+
+
 def test_a_roles_interval_spans_what_its_seeds_give_not_only_their_rollouts():
     rng = np.random.default_rng(0)
     progress = {"fixed-default-s0": 0.2, "fixed-default-s1": 0.4, "fixed-default-s2": 0.3}

@@ -270,6 +270,12 @@ def claims_table(roles: pd.DataFrame, limit: float) -> pd.DataFrame:
             )
         else:
             verdict, because = _VERDICTS[claim.number](rows_of, limit)
+            single = [row.role for row in rows_of if _seeds(row) == 1]
+            if single:
+                because += (
+                    f"; one seed of {', '.join(single)}: its interval covers that human's "
+                    "rollouts only"
+                )
         rows.append(
             {
                 "claim": claim.number,
@@ -279,6 +285,11 @@ def claims_table(roles: pd.DataFrame, limit: float) -> pd.DataFrame:
             }
         )
     return pd.DataFrame(rows, columns=["claim", "statement", "verdict", "because"])
+
+
+def _seeds(row: Any) -> int:
+    """How many humans (training seeds) a roles-table row pools; 0 where it does not say."""
+    return len(row.humans.split()) if isinstance(row.humans, str) else 0
 
 
 def _verdict(tests: Sequence[tuple[bool, str]]) -> tuple[str, str]:
