@@ -27,15 +27,15 @@ RUNS = {  # learning summary stem: label
     "side_linear-complete-trpo-warmup-curriculum-s0": "side_linear: + r_d warm-up + curriculum",
     "side_linear-complete-trpo-delta-curriculum-s0": "side_linear: warm-up, delta, curriculum",
     "../fixed-complete-trpo-delta-curriculum-s0": "fixed: warm-up, delta, curriculum",
-    "front_linear-complete-trpo-delta-curriculum-s0": "front_linear: default recipe (s7)",
+    "front_linear-complete-trpo-delta-curriculum-s0": "front_linear: default recipe of 2026-12-02",
     "front_linear-complete-trpo-delta-curriculum-tear3-s0": "front_linear: + tear limit 3 (600k)",
     "../front_linear-complete-trpo-delta-curriculum-tear202-s0": "front_linear: + tear limit 2.02",
-    "side_linear-probe-std03-s0": "side_linear: + tear limit, action std 0.3 (probe, s9)",
-    "front_linear-candidate-std03-promote05-s0": "front_linear: std 0.3, promotion at 50% (s10)",
-    "side_linear-candidate-std03-promote05-s0": "side_linear: std 0.3, promotion at 50% (s10)",
-    "side_linear-share08-s0": "side_linear: default recipe, 80% near starts (s14-15)",
-    "../front_linear-default-s0": "front_linear: today's default recipe from scratch (s15-16)",
-    "../side_linear-default-s0": "side_linear: today's default recipe from scratch (s17-18)",
+    "side_linear-probe-std03-s0": "side_linear: + tear limit, action std 0.3 (probe, 2026-12-02)",
+    "front_linear-candidate-std03-promote05-s0": "front_linear: std 0.3, 50% promotes (2026-12-02)",
+    "side_linear-candidate-std03-promote05-s0": "side_linear: std 0.3, 50% promotes (2026-12-02)",
+    "side_linear-share08-s0": "side_linear: default recipe, 80% near starts (2026-12-03)",
+    "../front_linear-fine-gown-s0": "front_linear: the fine-gown recipe from scratch (2026-12-03)",
+    "../side_linear-fine-gown-s0": "side_linear: the fine-gown recipe from scratch (2026-12-04)",
 }
 MARKS = (50_000, 100_000, 200_000, 300_000, 500_000, 750_000, 1_000_000)
 
