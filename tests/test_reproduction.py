@@ -92,8 +92,7 @@ def test_a_verdict_resting_on_a_role_of_one_seed_says_so():
                         role(0.62, 1.5, 0.8))  # fmt: skip
     table["humans"] = ["a-s0 a-s1 a-s2", "b-s0", "c-s0 c-s1", "d-s0 d-s1 d-s2", "e-s0 e-s1"]
     because = claims_table(table, LIMIT).set_index("claim")["because"]
-    assert because[2].endswith("; one seed of no_haptics on fixed: its interval covers that "
-                               "human's rollouts only")  # fmt: skip
+    assert because[2].endswith("; one seed: the CI covers rollouts only (no_haptics on fixed)")
     assert "one seed" not in because[1] + because[3] + because[4] + because[5]
 
 

@@ -30,7 +30,7 @@ from .groups import human_group
 from .plots import cross_play_figure, role_bars_figure, role_curves_figure
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import RESAMPLES
-from .strategies import over_seeds
+from .strategies import ONE_SEED, over_seeds
 
 STRATEGIES = ("fixed", "front_linear", "side_linear")  # the paper's three robot strategies
 
@@ -272,10 +272,7 @@ def claims_table(roles: pd.DataFrame, limit: float) -> pd.DataFrame:
             verdict, because = _VERDICTS[claim.number](rows_of, limit)
             single = [row.role for row in rows_of if _seeds(row) == 1]
             if single:
-                because += (
-                    f"; one seed of {', '.join(single)}: its interval covers that human's "
-                    "rollouts only"
-                )
+                because += f"; {ONE_SEED} ({', '.join(single)})"
         rows.append(
             {
                 "claim": claim.number,
