@@ -288,7 +288,8 @@ def sweep(robots, ablations, profiles, seeds, algos, episodes, results, workers,
 @main.group(invoke_without_command=True)
 @click.option("--robot", help="Robot strategy.")
 @click.option("--human", help="Human policy (a plugin or a trained model in policies/).")
-@_options(_episodes(), _SEED_OPTION, _workers(), _GOWN, _PROFILE)
+@_CELLS
+@_PROFILE
 @_folder()
 @_EPISODE_TIMEOUT
 @_BACKEND

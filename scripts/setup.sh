@@ -8,9 +8,9 @@ cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
 [ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
 .venv/bin/python -m pip install -q --upgrade pip
-# The CPU build of torch lies on this machine's disk; install it first so nothing else pulls
-# a multi-gigabyte CUDA build.
-.venv/bin/python -m pip install -q torch==2.13.0
+# The CPU build of torch first, so that nothing else pulls a multi-gigabyte CUDA build: from
+# wherever pip is set up to find it, or from TORCH_INDEX_URL (e.g. PyTorch's CPU index) if set.
+.venv/bin/python -m pip install -q ${TORCH_INDEX_URL:+--index-url "$TORCH_INDEX_URL"} torch==2.13.0
 .venv/bin/python -m pip install -q -e ".[dev,train,ray,compare]"
 # The example third-party plugin package (plugins/), installed as a user would install theirs
 .venv/bin/python -m pip install -q -e plugins/dressbench-arc

@@ -9,6 +9,7 @@ from click.testing import CliRunner
 
 from dressbench.cli import main
 from dressbench.config import EnvConfig
+from dressbench.evaluation.readme import command_line
 from dressbench.evaluation.strategies import STRATEGIES_BLOCK
 from dressbench.scene.garment import GownConfig
 from dressbench.scene.world import SceneConfig
@@ -51,6 +52,21 @@ def test_a_leaderboard_can_be_built_a_few_cells_at_a_time(tmp_path):
     assert result.exit_code == 0, result.output
     assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 1  # reused one
     assert set(pd.read_csv(tmp_path / "leaderboard.csv")["human"]) == {"passive", "random"}
+
+
+def test_the_command_a_results_readme_gives_remakes_its_tables_from_the_cache(tmp_path):
+    """A results folder's README names the command that made it; run as written, it is valid
+    (each option it names exists) and re-makes the tables without simulating anything."""
+    from dressbench.evaluation import evaluate
+
+    evaluate("fixed", "passive", episodes=1, workers=1, out=tmp_path, progress=False,
+             horizon=4, gown_vertices=300)  # fmt: skip
+    line = command_line(json.loads((tmp_path / "run_meta.json").read_text()))
+    assert "--horizon 4" in line and "--gown-vertices 300" in line
+    words = line.split()[1:]  # without "dressbench"
+    result = CliRunner().invoke(main, [*words, "--workers", "1", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0
 
 
 def test_an_unknown_strategy_is_a_one_line_error_not_a_traceback():
