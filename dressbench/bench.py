@@ -11,14 +11,21 @@ import math
 import tempfile
 import time
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .checks import check_device, check_gown_vertices, check_int
-from .config import ANY_PROCESSES, AT_LEAST_ONE, SceneOptions, option, option_like
+from .config import (
+    ANY_PROCESSES,
+    AT_LEAST_ONE,
+    SceneOptions,
+    check_options,
+    option,
+    option_like,
+)
 from .observation import human_observation
 from .scene.body import N_ACTIONS
 from .scene.clock import POLICY_DT
@@ -65,11 +72,7 @@ class BenchOptions:
     def __post_init__(self) -> None:
         """Refuse what the command line refuses, before anything is timed (a ValueError); the
         device is checked where it is used."""
-        for field in fields(self):
-            check, value = field.metadata["check"], getattr(self, field.name)
-            for one in value if isinstance(value, tuple) else (value,):
-                if check and field.name != "device":
-                    check(one, field.name)
+        check_options(self, skip=("device",))
         if self.compare not in (None, *COMPARE_WITH):
             raise ValueError(f"compare must be one of {COMPARE_WITH} or None, got {self.compare!r}")
 

@@ -29,6 +29,16 @@ def option(default: Any, help: str, check: Callable[..., Any] | None = None, **m
     return field(default=default, metadata={"help": help, "check": check, **more})
 
 
+def check_options(options: Any, skip: tuple[str, ...] = ()) -> None:
+    """Run each ``option`` field's check on its value (on each item of a tuple), so that Python
+    refuses what the command line refuses, before anything runs (a ValueError)."""
+    for one_field in fields(options):
+        check, value = one_field.metadata.get("check"), getattr(options, one_field.name)
+        if check and one_field.name not in skip:
+            for one in value if isinstance(value, tuple) else (value,):
+                check(one, one_field.name)
+
+
 def option_like(config: type, name: str, default: Any, help: str | None = None) -> Any:
     """The option ``name`` of ``config`` (its help and check) with another ``default`` (and
     ``help``, where given)."""

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .checks import check_folder
-from .config import AT_LEAST_ONE, EnvConfig, option, option_like
+from .checks import check_episodes, check_folder
+from .config import EnvConfig, check_options, option, option_like
 from .plugins.protocols import TYPICAL_PROFILE
 
 if TYPE_CHECKING:
@@ -32,7 +32,7 @@ class ScoreOptions:
 
     minutes: float = option(30.0, "Minutes of fine-tuning in all, shared among the generalist "
                             "seeds (0: score them as they are).", _check_minutes)  # fmt: skip
-    episodes: int = option(100, "Rollouts per seed.", AT_LEAST_ONE)
+    episodes: int = option(100, "Rollouts per seed.", check_episodes)
     profile: str = option_like(EnvConfig, "profile", EnvConfig.profile,
                                "The capability profile the strategy is scored for: the "
                                "generalists are fine-tuned and evaluated under it.")  # fmt: skip
@@ -41,6 +41,10 @@ class ScoreOptions:
     runs: str = option("runs", "Folder of the fine-tuning runs.", check_folder)
     policies: str = option("policies", "Where the tuned humans go (a folder dressbench finds "
                            "humans in).", check_folder)  # fmt: skip
+
+    def __post_init__(self) -> None:
+        """Refuse what the command line refuses, before any fine-tuning (a ValueError)."""
+        check_options(self)
 
 
 def generalists(names: list[str] | None = None) -> dict[str, int]:

@@ -6,6 +6,7 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
+from dressbench.checks import MAX_EPISODES
 from dressbench.cli import main
 from dressbench.scoring import ScoreOptions, generalists, score, tuned_name
 from dressbench.training import TrainConfig, train
@@ -88,3 +89,13 @@ def test_without_a_generalist_score_says_how_to_train_one(tmp_path, policies_on_
 def test_score_refuses_a_name_that_is_no_generalist(two_generalists):
     with pytest.raises(ValueError, match=r"^not a generalist human: scripted \(have "):
         generalists(["scripted"])
+
+
+@pytest.mark.parametrize(
+    ("option", "value"), [("episodes", 0), ("episodes", MAX_EPISODES + 1), ("minutes", -1.0)]
+)
+def test_score_options_refuse_what_the_command_line_refuses_before_any_fine_tuning(option, value):
+    with pytest.raises(ValueError, match=option):
+        ScoreOptions(**{option: value})
+    result = CliRunner().invoke(main, ["score", "--robot", "fixed", f"--{option}", str(value)])
+    assert result.exit_code != 0 and "Traceback" not in result.output
