@@ -14,13 +14,19 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .scene.body import FOREARM_LENGTH, HAND_LENGTH, UPPER_ARM_LENGTH
+
 FloatArray = NDArray[np.float64]
 
-# Stages of dressing as final arm progress, m (segment lengths of docs/human.md): the hand in
-# (the wrist through the opening, 0.18), past the elbow (hand and forearm inside, 0.18 + 0.26:
-# the leaderboard's success) and dressed (the opening at the middle of the upper arm,
+# Stages of dressing as final arm progress, m, read off the arm's segments: the hand in (the
+# wrist through the opening, 0.18), past the elbow (hand and forearm inside, 0.18 + 0.26: the
+# leaderboard's success) and dressed (the opening at the middle of the upper arm,
 # 0.44 + 0.30 / 2). Evaluation, training logs and the curriculum all read them here.
-STAGE_DEPTHS = {"hand_in": 0.18, "past_elbow": 0.44, "dressed": 0.59}
+STAGE_DEPTHS = {
+    "hand_in": HAND_LENGTH,
+    "past_elbow": HAND_LENGTH + FOREARM_LENGTH,
+    "dressed": HAND_LENGTH + FOREARM_LENGTH + UPPER_ARM_LENGTH / 2,
+}
 
 
 @dataclass(frozen=True, eq=False)

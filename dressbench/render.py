@@ -19,6 +19,8 @@ from matplotlib.patches import Rectangle
 from mpl_toolkits.mplot3d import Axes3D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from .metrics import STAGE_DEPTHS
+from .scene.body import ARM_LENGTH
 from .scene.geometry import quat_matrix
 from .scene.world import Scene
 
@@ -63,8 +65,7 @@ VIDEO_SIZE = (960, 540)
 VIDEO_GOWN_ALPHA = 0.45  # translucent: the arm shows through the sleeve
 ARM_COLOR = (0.55, 0.25, 0.10)  # the right arm's bones (fingertip-wrist-elbow-shoulder)
 BAR_COLOR = (0.15, 0.55, 0.25)  # the progress bar's fill
-ARM_LENGTH = 0.74  # m, hand 0.18 + forearm 0.26 + upper arm 0.30: the bar's full length
-BAR_MARKS = (("hand in", 0.18), ("elbow", 0.44), ("dressed", 0.59))  # the stages' depths
+BAR_MARKS = tuple(zip(("hand in", "elbow", "dressed"), STAGE_DEPTHS.values(), strict=True))
 CAPTION_SHARE = 0.16  # of the height, at the top: the caption (two lines), the views' titles
 BAR_SHARE = 0.09  # of the height, at the bottom, for the progress bar with a HUD
 

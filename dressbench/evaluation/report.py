@@ -8,6 +8,7 @@ from typing import Any
 import pandas as pd
 
 from ..files import slug, write_csv, write_json, write_png, write_text
+from ..scene.body import FOREARM_LENGTH, HAND_LENGTH
 from .plots import curves_figure, scores_figure
 from .readme import write_results_readme
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
@@ -18,8 +19,8 @@ def success_definition(depth: float = SUCCESS_DEPTH) -> str:
     """The success rule in words, as the docs, the Markdown table and run_meta.json state it."""
     return (
         f"an episode succeeds when the arm is through the sleeve opening past the elbow at its "
-        f"end: final arm progress >= {depth:.2f} m (default: hand 0.18 m + forearm 0.26 m), "
-        f"with no simulation failure"
+        f"end: final arm progress >= {depth:.2f} m (default: hand {HAND_LENGTH:.2f} m + forearm "
+        f"{FOREARM_LENGTH:.2f} m), with no simulation failure"
     )
 
 

@@ -13,6 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..scene.body import RIGHT, SHOULDER_Y, SHOULDER_Z
 from .protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED
 
 __all__ = [  # the protocol's constants are re-exported for strategy authors
@@ -29,7 +30,7 @@ __all__ = [  # the protocol's constants are re-exported for strategy authors
     "yaw_quaternion",
 ]
 
-RIGHT_SHOULDER = np.array([0.0, -0.19, 0.50])  # in the human frame, at rest
+RIGHT_SHOULDER = np.array([0.0, RIGHT * SHOULDER_Y, SHOULDER_Z])  # in the human frame, at rest
 FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # sleeve pointing away along +x
 LINEAR_DURATION = 10.0  # s, the paper's linear motions
 

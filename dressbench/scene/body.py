@@ -12,6 +12,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 RIGHT, LEFT = -1.0, 1.0  # the sign of y on each side of the body
+# m, the arm's segments (docs/human.md): the depths of dressing's stages are read off them
+UPPER_ARM_LENGTH, FOREARM_LENGTH, HAND_LENGTH = 0.30, 0.26, 0.18
+ARM_LENGTH = HAND_LENGTH + FOREARM_LENGTH + UPPER_ARM_LENGTH  # shoulder to fingertip
+SHOULDER_Y, SHOULDER_Z = 0.19, 0.50  # m, each glenohumeral joint's |y| and height at q = 0
 
 
 @dataclass(frozen=True)
@@ -38,10 +42,10 @@ def _arm(side: float) -> list[JointSpec]:
     """Clavicle, upper arm, forearm and hand on one side (side = RIGHT or LEFT)."""
     s = side
     p = "r" if side == RIGHT else "l"
-    sh = (0.0, 0.19 * s, 0.50)  # glenohumeral joint
-    el = (0.0, sh[1] + 0.30 * s, 0.50)
-    wr = (0.0, el[1] + 0.26 * s, 0.50)
-    tip = (0.0, wr[1] + 0.18 * s, 0.50)
+    sh = (0.0, SHOULDER_Y * s, SHOULDER_Z)  # glenohumeral joint
+    el = (0.0, sh[1] + UPPER_ARM_LENGTH * s, SHOULDER_Z)  # the arm level in the T-pose
+    wr = (0.0, el[1] + FOREARM_LENGTH * s, SHOULDER_Z)
+    tip = (0.0, wr[1] + HAND_LENGTH * s, SHOULDER_Z)
     # Euler XYZ at the shoulder: x elevates the arm in the frontal plane (+ = down for the
     # right arm), y is the middle axis (kept within ±1.2 rad, away from the Euler singularity),
     # z swings it horizontally (+ = forward for the right arm).
