@@ -12,6 +12,7 @@ from ..scene.body import FOREARM_LENGTH, HAND_LENGTH
 from .plots import curves_figure, scores_figure
 from .readme import write_results_readme
 from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
+from .schema import STAGE_COLUMNS, STAGE_LABELS
 from .statistics import CONFIDENCE, RESAMPLES
 
 
@@ -36,21 +37,26 @@ def stage_definitions(depth: float = SUCCESS_DEPTH) -> dict[str, str]:
     }
 
 
-def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> str:
-    """The leaderboard as a Markdown table under a caption that defines every number in it."""
+def settings_text(board: pd.DataFrame) -> str:
+    """The env settings and base seeds of a leaderboard's cells in words (the table's caption,
+    the report page)."""
     settings = board[["horizon", "gown_vertices", "device", "seed"]].drop_duplicates()
-    described = "; ".join(
+    return "; ".join(
         f"horizon {r.horizon} steps, {r.gown_vertices}-vertex gown, device {r.device}, "
         f"base seed {r.seed}"
         for r in settings.itertuples()
     )
+
+
+def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEPTH) -> str:
+    """The leaderboard as a Markdown table under a caption that defines every number in it."""
     stages = stage_definitions(success_depth)
     lines = [
         "# dressbench leaderboard",
         "",
-        f"Settings: {described}.",
+        f"Settings: {settings_text(board)}.",
         "",
-        *(f"**{_STAGE_NAMES[stage]}**: {text}." for stage, text in stages.items()),
+        *(f"**{STAGE_LABELS[stage].capitalize()}**: {text}." for stage, text in stages.items()),
         "",
         f"Each cell is a robot strategy x a human model over seeded rollouts: mean ± sample std, "
         f"and in brackets the {CONFIDENCE:.0%} percentile-bootstrap confidence interval of the "
@@ -59,7 +65,8 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
         f"triangle area ratio (stretched / rest) of the episode.",
         "",
         "| robot | human | ablation | profile | episodes | final arm progress (m) "
-        "| max deformation | hand in | past the elbow (success) | dressed | sim failures |",
+        f"| max deformation | {' | '.join(STAGE_LABELS[s] for s in STAGE_COLUMNS)} "
+        "| sim failures |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in board.itertuples():
@@ -71,9 +78,6 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
             f"| {deformation} | {rates} | {r.sim_failures} |"
         )
     return "\n".join(lines) + "\n"
-
-
-_STAGE_NAMES = {"hand_in": "Hand in", "success": "Past the elbow (success)", "dressed": "Dressed"}
 
 
 def _rate(row: Any, stage: str) -> str:

@@ -44,6 +44,8 @@ def _rate(stage: str) -> list[str]:
 
 # The rates of the episodes columns that are stages of dressing, shallow to deep.
 STAGE_COLUMNS = ["hand_in", "success", "dressed"]
+# each stage's name in tables, captions and the report
+STAGE_LABELS = {"hand_in": "hand in", "success": "past the elbow (success)", "dressed": "dressed"}
 
 LEADERBOARD_COLUMNS = [
     *KEY_COLUMNS,

@@ -31,6 +31,7 @@ from .schema import (
     COMPARED_COLUMNS,
     IMPROVEMENT_COLUMNS,
     STAGE_COLUMNS,
+    STAGE_LABELS,
     STRATEGY_COLUMNS,
     STRATEGY_KEY,
     STRATEGY_MEANS,
@@ -203,8 +204,8 @@ def strategy_rows_markdown(table: pd.DataFrame) -> str:
     block: ``STRATEGIES_BLOCK``)."""
     lines = [
         "| rank | robot | recipe | ablation | profile | seeds | episodes "
-        "| final arm progress (m) | max deformation | hand in | past the elbow (success) "
-        "| dressed | note |",
+        f"| final arm progress (m) | max deformation "
+        f"| {' | '.join(STAGE_LABELS[s] for s in STAGE_COLUMNS)} | note |",
         "|---:|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in table.itertuples():

@@ -25,8 +25,9 @@ import pandas as pd
 
 from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
 from ..plugins import TYPICAL_PROFILE
-from .report import stage_definitions
+from .report import settings_text, stage_definitions
 from .rollouts import SUCCESS_DEPTH, episode_seed
+from .schema import STAGE_COLUMNS, STAGE_LABELS
 from .strategies import STRATEGY_CAPTION, score_text
 from .workers import exit_with_parent
 
@@ -37,7 +38,7 @@ _NEEDED = ("robot", "human", "ablation", "episodes", "horizon", "gown_vertices",
            "max_deformation") for s in ("mean", "ci_low", "ci_high")))  # fmt: skip
 STRATEGY_FIGURE = "strategies.png"
 VIDEO_SUFFIX = ".mp4"
-STAGES = (("hand_in", "hand in"), ("success", "past the elbow (success)"), ("dressed", "dressed"))
+STAGES = tuple((stage, STAGE_LABELS[stage]) for stage in STAGE_COLUMNS)
 
 
 def write_report(
@@ -332,7 +333,7 @@ def report_html(
     page = jinja2.Environment(autoescape=True).from_string(PAGE)
     return page.render(
         title="dressbench report",
-        settings=_settings(board),
+        settings=settings_text(board),
         strategies=strategies,
         header=[(h, "number" if i in numeric else "text") for i, h in enumerate(header)],
         rows=rows,
@@ -343,15 +344,6 @@ def report_html(
         meta=_meta_items(meta),
         configs=json.dumps(meta.get("configs", {}), indent=2, sort_keys=True),
         script=jinja2.filters.Markup(SORT_SCRIPT),  # our own code, not a value
-    )
-
-
-def _settings(board: pd.DataFrame) -> str:
-    settings = board[["horizon", "gown_vertices", "device", "seed"]].drop_duplicates()
-    return "; ".join(
-        f"horizon {r.horizon} steps, {r.gown_vertices}-vertex gown, device {r.device}, "
-        f"base seed {r.seed}"
-        for r in settings.itertuples()
     )
 
 
