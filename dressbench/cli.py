@@ -140,8 +140,8 @@ _BACKEND = _options(
 _CELLS = _options(_episodes(), _SEED_OPTION, _workers(), _GOWN, _HORIZON)
 _EPISODE_TIMEOUT = click.option(
     "--episode-timeout", type=click.FloatRange(min=0, min_open=True), default=None,
-    help="Seconds an episode may run before its cell is flagged "
-         "(default: max(60, horizon x gown vertices x 0.1 ms)).",
+    help="Seconds an episode may run before its cell is flagged (default: in proportion to "
+         "the horizon x the gown's vertices, with a floor; docs/evaluation.md).",
 )  # fmt: skip
 
 
