@@ -21,7 +21,8 @@ if TYPE_CHECKING:  # annotations only: the layout and scaling load without the p
     from .state import DressingState
 
 ABLATIONS = ("complete", "no_haptics", "no_task")
-HAPTIC_SCALES = ("newtons", "log")  # the forces as measured (the paper), or log(1 + |f| / 1 N)
+NEWTONS = "newtons"  # the forces as measured (the paper): what a policy that names no scale reads
+HAPTIC_SCALES = (NEWTONS, "log")  # or log(1 + |f| / 1 N)
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,7 @@ def scale_haptics(observation: np.ndarray, ablation: str, scale: str) -> np.ndar
     """
     check_haptic_scale(scale)
     block = observation_layout(ablation).forces
-    if scale == "newtons" or block is None:
+    if scale == NEWTONS or block is None:
         return observation
     out = np.array(observation, dtype=np.float32)
     forces = out[..., block].reshape(*out.shape[:-1], N_SENSORS, 3)

@@ -26,7 +26,8 @@ import safetensors.numpy
 from safetensors import SafetensorError
 
 from .files import parse_json
-from .observation import HAPTIC_SCALES, scale_haptics
+from .observation import HAPTIC_SCALES, NEWTONS, scale_haptics
+from .plugins.contract import DEFAULT_ACTUATION
 from .plugins.protocols import HUMAN_ACTION_SIZE, TYPICAL_PROFILE
 from .scene.actuation import ACTUATIONS
 
@@ -79,9 +80,9 @@ class TrainedPolicy:
         self.epsilon = epsilon
         self.robot: str | None = metadata["robot"]
         self.ablation: str = metadata["ablation"]
-        self.actuation: str = metadata.get("actuation", "pd")  # what its actions drive
+        self.actuation: str = metadata.get("actuation", DEFAULT_ACTUATION)  # what its actions drive
         self.profile: str = metadata.get("profile", TYPICAL_PROFILE)  # the body it learned in
-        self.haptics: str = metadata.get("haptics", "newtons")  # how it reads the forces
+        self.haptics: str = metadata.get("haptics", NEWTONS)  # how it reads the forces
         self.log_std = log_std  # the Gaussian's spread in training; acting uses the mean
         self.layers = layers  # (weight, bias) of each linear layer; the last gives the actions
         self.obs_mean = obs_mean  # the observation normalisation it was trained with
@@ -242,14 +243,30 @@ def _read_document(json_path: Path) -> dict[str, Any]:
 
 def _schema_problem(document: dict[str, Any]) -> str | None:
     """What is wrong with a version-1 document's fields, or None."""
-    for keys, valid, wanted in _FIELDS:
+    return _fields_problem(document, _FIELDS) or metadata_problem(document)
+
+
+def metadata_problem(metadata: dict[str, Any]) -> str | None:
+    """What is wrong with a policy's training metadata (the ``robot`` and ``ablation`` it must
+    name, the optional ``haptics``, ``actuation`` and ``profile``), or None: what loading a
+    file checks, and what saving one refuses."""
+    return _fields_problem(metadata, _METADATA_FIELDS, _OPTIONAL_FIELDS)
+
+
+def _fields_problem(
+    document: dict[str, Any],
+    required: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...],
+    optional: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (),
+) -> str | None:
+    """The first of ``required`` missing or invalid, else of ``optional`` invalid, or None."""
+    for keys, valid, wanted in required:
         value = _field(document, keys)
         where = ".".join(keys)
         if value is _MISSING:
             return f"{where} is missing"
         if not valid(value):
             return f"{where} must be {wanted}, found {value!r}"
-    for keys, valid, wanted in _OPTIONAL_FIELDS:
+    for keys, valid, wanted in optional:
         value = _field(document, keys)
         if value is not _MISSING and not valid(value):
             return f"{'.'.join(keys)} must be {wanted}, found {value!r}"
@@ -361,10 +378,13 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("obs_normalization", "epsilon"), lambda v: is_number(v) and v >= 0, "a number >= 0"),
     (("tensors", "sha256"), _is_sha256, "64 hex digits"),
     (("tensors", "size"), _is_positive_int, "an integer > 0"),
+)
+# The training metadata the HumanPolicy protocol reads: required, then optional (older files
+# leave them out; checked only where present)
+_METADATA_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("ablation",), lambda v: isinstance(v, str), "a string"),
     (("robot",), lambda v: v is None or isinstance(v, str), "a string or null"),
 )
-# Fields a version-1 JSON may leave out (older files): checked only where present.
 _OPTIONAL_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
     (("haptics",), lambda v: v in HAPTIC_SCALES, " or ".join(map(repr, HAPTIC_SCALES))),
     (("actuation",), lambda v: v in ACTUATIONS, " or ".join(map(repr, ACTUATIONS))),

@@ -337,6 +337,9 @@ def test_save_refuses_bad_metadata(trpo, tmp_path: Path) -> None:
         ({"ablation": "complete"}, "robot"),
         ({**METADATA, "format": "x"}, "format's keys"),
         ({**METADATA, "config": Path("x")}, "JSON"),
+        ({**METADATA, "haptics": "kg"}, "haptics must be"),  # what loading would refuse
+        ({**METADATA, "actuation": "wiggle"}, "actuation must be"),
+        ({**METADATA, "profile": 3}, "profile must be"),
     ]:
         with pytest.raises(ValueError, match=reason):
             save_policy(tmp_path / "bad", model, venv.obs_rms, metadata)

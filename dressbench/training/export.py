@@ -16,7 +16,6 @@ import numpy as np
 import safetensors.numpy
 
 from ..files import write_bytes
-from ..observation import check_haptic_scale
 from ..policy_file import (
     ACTION_SIZE,
     ACTIVATION,
@@ -26,6 +25,7 @@ from ..policy_file import (
     RESERVED_KEYS,
     is_number,
     layer_names,
+    metadata_problem,
     policy_paths,
 )
 
@@ -145,11 +145,8 @@ def _check_metadata(metadata: dict[str, Any]) -> None:
     clashes = [key for key in RESERVED_KEYS if key in metadata]
     if clashes:
         raise ValueError(f"metadata may not use the format's keys: {', '.join(clashes)}")
-    if not isinstance(metadata.get("ablation"), str):
-        raise ValueError("metadata must name the 'ablation' (a string)")
-    if "robot" not in metadata or not isinstance(metadata["robot"], (str, type(None))):
-        raise ValueError("metadata must name the 'robot' (a string, or None for any robot)")
-    check_haptic_scale(metadata.get("haptics", "newtons"))
+    if problem := metadata_problem(metadata):
+        raise ValueError(f"metadata: {problem}")
 
 
 def _to_json(document: dict[str, Any]) -> str:

@@ -26,6 +26,7 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecNormalize
 
 from ..files import write_csv, write_json
+from ..observation import NEWTONS
 from ..policy_file import TrainedPolicy
 from ..provenance import git_commit, versions
 from .callbacks import Checkpoints, CurriculumLevels, Progress, StopAt, Warmup
@@ -378,7 +379,7 @@ class _EnvFactory:
         env = make_human_env(cfg.robot, ablation=cfg.ablation, gown_vertices=cfg.gown_vertices,
                              horizon=cfg.horizon, actuation=cfg.actuation,
                              profile=cfg.profile)  # fmt: skip
-        if cfg.haptics != "newtons":
+        if cfg.haptics != NEWTONS:
             env = ScaledHaptics(env, cfg.ablation, cfg.haptics)
         keywords = ("arm_progress", "max_deformation", "sim_failure")
         if cfg.warmup is not None:
