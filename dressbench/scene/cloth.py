@@ -23,6 +23,8 @@ import numpy as np
 import warp as wp
 
 from . import cloth_kernels as k
+from .clock import SIM_DT
+from .geometry import GRAVITY
 
 MAX_CAPSULES = 32  # the broadphase keeps one bit per capsule in an int32
 
@@ -47,7 +49,7 @@ class ClothConfig:
     tension_stiffness: float = 300.0  # N/m per edge: the tension a stretched edge pulls with
     damping: float = 2.0  # 1/s, linear velocity damping: air drag on a light fabric
     broadphase_margin: float = 0.05  # m, capsules nearer than this are tested in a substep
-    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    gravity: tuple[float, float, float] = GRAVITY
     launch_per_color: bool | None = None  # None: one launch per colour on CUDA, one in all on CPU
 
 
@@ -259,7 +261,7 @@ class Cloth:
         mesh: ClothMesh,
         bodies: ContactBodies,
         config: ClothConfig = ClothConfig(),
-        dt: float = 0.01,
+        dt: float = SIM_DT,
         device: str = "cpu",
     ) -> None:
         if len(bodies.capsule_radius) > MAX_CAPSULES:

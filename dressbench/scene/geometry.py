@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+GRAVITY = (0.0, 0.0, -9.81)  # m/s², the world's (z is up): the body's and the cloth's
+
 
 def quat_matrix(q: np.ndarray) -> np.ndarray:
     """The rotation matrix of a quaternion (qx, qy, qz, qw), normalized first."""

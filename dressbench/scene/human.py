@@ -14,8 +14,8 @@ import numpy as np
 
 from .actuation import check_actuation
 from .body import BODY, N_ACTIONS, N_DOFS, JointSpec
-from .clock import POLICY_DT
-from .geometry import rotation_z_to
+from .clock import POLICY_DT, SIM_DT
+from .geometry import GRAVITY, rotation_z_to
 
 _ORIGIN = np.zeros(3)
 
@@ -39,13 +39,13 @@ class Human:
     N_DOFS = N_DOFS
     N_ACTIONS = N_ACTIONS
 
-    def __init__(self, config: HumanConfig = HumanConfig(), dt: float = 0.01) -> None:
+    def __init__(self, config: HumanConfig = HumanConfig(), dt: float = SIM_DT) -> None:
         check_actuation(config.actuation)
         self.config = config
         self.skeleton, self._bodies = _build_skeleton(config.specs)
         self.world = dart.simulation.World()
         self.world.setTimeStep(dt)
-        self.world.setGravity([0.0, 0.0, -9.81])
+        self.world.setGravity(list(GRAVITY))
         self.world.setCollisionDetector(dart.collision.BulletCollisionDetector())
         self.world.addSkeleton(self.skeleton)
         self.skeleton.setSelfCollisionCheck(config.self_collision)
