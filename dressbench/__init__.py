@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .factory import make_env, make_human_env, parallel_env
+from .factory import DEFAULT_ROBOT, make_env, make_human_env, parallel_env
 
 __version__ = "0.3.0"
 __all__ = [
@@ -28,7 +28,7 @@ __all__ = [
 ENV_ID = "dressbench/Dressing-v0"  # gymnasium.make(ENV_ID, robot=..., **EnvConfig options)
 
 
-def train(robot: str = "fixed", **options: Any):
+def train(robot: str = DEFAULT_ROBOT, **options: Any):
     """Train a human model for a robot strategy; ``options`` are ``TrainConfig`` fields."""
     from .training import train as train_policy
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .plugins.robots import FRONT, RIGHT_SHOULDER
+from .plugins.robots import FRONT, PAPER_STRATEGIES, RIGHT_SHOULDER
 from .scene.world import Scene, SceneConfig
 from .state import measure
 
@@ -64,7 +64,7 @@ def episode(robot: str, human: str, seed: int, horizon: int = 400) -> tuple[floa
 
 def calibration(episodes: int = 6) -> list[Measurement]:
     """The motions of docs/reward.md's table, from hanging still to flailing."""
-    robots = ("fixed", "front_linear", "side_linear")
+    robots = PAPER_STRATEGIES
     scene = Scene(SceneConfig())
     rows = [
         ("hanging, the passive human under each strategy", [

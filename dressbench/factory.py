@@ -12,9 +12,11 @@ if TYPE_CHECKING:
     from .plugins import HumanPolicy, Plugin
     from .single_agent import HumanEnv
 
+DEFAULT_ROBOT = "fixed"  # the strategy an env, a training or a plugin check gets when none is named
+
 
 def make_env(
-    robot: str | Plugin | Any = "fixed",
+    robot: str | Plugin | Any = DEFAULT_ROBOT,
     *,
     human: str | HumanPolicy | None = None,
     render_mode: str | None = None,
@@ -40,7 +42,7 @@ def make_env(
 
 
 def parallel_env(
-    robot: str | Plugin | Any = "fixed",
+    robot: str | Plugin | Any = DEFAULT_ROBOT,
     *,
     human: str | HumanPolicy | None = None,
     render_mode: str | None = None,
@@ -52,7 +54,7 @@ def parallel_env(
 
 
 def make_human_env(
-    robot: str | Plugin | Any = "fixed",
+    robot: str | Plugin | Any = DEFAULT_ROBOT,
     *,
     human: str | HumanPolicy | None = None,
     render_mode: str | None = None,

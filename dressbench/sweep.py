@@ -34,7 +34,9 @@ class Sweep:
     seeded rollouts each, into ``results``."""
 
     grid: Mapping[str, Sequence[Any]] = field(
-        default_factory=lambda: {"robot": ["fixed"], "ablation": ["complete"], "seed": [0]}
+        default_factory=lambda: {
+            axis: [getattr(TrainConfig, axis)] for axis in ("robot", "ablation", "seed")
+        }  # fmt: skip
     )
     train: Mapping[str, Any] = field(default_factory=dict)
     episodes: int = 100

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from .factory import DEFAULT_ROBOT
 from .plugins import (
     HUMAN_API_VERSION,
     PROFILE_API_VERSION,
@@ -64,7 +65,9 @@ def check_robot_plugin(robot: str | Any, steps: int = CHECK_STEPS) -> None:
         observations, *_ = env.step({"robot": robot_action, "human": np.zeros(HUMAN_ACTION_SIZE)})
 
 
-def check_human_plugin(human: str | Any, robot: str = "fixed", steps: int = CHECK_STEPS) -> None:
+def check_human_plugin(
+    human: str | Any, robot: str = DEFAULT_ROBOT, steps: int = CHECK_STEPS
+) -> None:
     """What it declares (robot, ablation, actuation), finite actions of the human's size on the
     observation of the env it was made for."""
     from .factory import make_human_env

@@ -23,6 +23,7 @@ import pandas as pd
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
 from ..plugins import TYPICAL_PROFILE, human_plugins, load_human
+from ..plugins.robots import PAPER_STRATEGIES
 from .bootstrap import two_level_draws
 from .cells import checked_cell
 from .docblock import DocBlock
@@ -32,7 +33,7 @@ from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import RESAMPLES
 from .strategies import ONE_SEED, over_seeds
 
-STRATEGIES = ("fixed", "front_linear", "side_linear")  # the paper's three robot strategies
+STRATEGIES = PAPER_STRATEGIES  # the paper's three robot strategies
 
 
 @dataclass(frozen=True)

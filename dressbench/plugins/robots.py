@@ -30,6 +30,7 @@ __all__ = [  # the protocol's constants are re-exported for strategy authors
     "yaw_quaternion",
 ]
 
+PAPER_STRATEGIES = ("fixed", "front_linear", "side_linear")  # the paper's three, by name
 RIGHT_SHOULDER = np.array([0.0, RIGHT * SHOULDER_Y, SHOULDER_Z])  # in the human frame, at rest
 FRONT = np.array([0.0, 0.0, 0.0, 1.0])  # sleeve pointing away along +x
 LINEAR_DURATION = 10.0  # s, the paper's linear motions

@@ -19,6 +19,7 @@ from ..checks import (
     check_seed,
 )
 from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, option, option_like
+from ..factory import DEFAULT_ROBOT
 from ..observation import HAPTIC_SCALES, check_haptic_scale
 from ..plugins.protocols import TYPICAL_PROFILE
 from ..scene.actuation import ACTUATIONS, check_actuation
@@ -42,7 +43,7 @@ class TrainConfig:
     recipe: str = option("default", "fine-gown: the default trained on the evaluation's gown; "
                          "paper: TRPO, torques = action x 10 N m, 50k batches, the evaluation's "
                          "gown.", choices=RECIPES)  # fmt: skip
-    robot: str = option("fixed", "Robot strategy to train for.")
+    robot: str = option(DEFAULT_ROBOT, "Robot strategy to train for.")
     algo: str = option("trpo", "The paper's TRPO, or PPO.", choices=ALGORITHMS)
     ablation: str = option_like(EnvConfig, "ablation", EnvConfig.ablation)
     # the body it learns in; the trained policy declares it, and is run with it everywhere
