@@ -13,6 +13,9 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
+EPISODES = 100  # rollouts per cell (and per seed) of an evaluation unless told otherwise
+RESULTS = "results"  # the folder an evaluation writes unless told otherwise
+REPRODUCTION = f"{RESULTS}/reproduction"  # and the paper's comparison
 MAX_EPISODES = 100_000  # per cell of an evaluation
 MIN_GOWN_VERTICES = 100  # GownConfig's own lower bound
 MAX_GOWN_VERTICES = 20_000  # 10x the default; ~180 MB of cloth state

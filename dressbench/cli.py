@@ -18,7 +18,15 @@ import click
 from click.core import ParameterSource
 
 from .bench import BenchOptions, bench_lines
-from .checks import check_episodes, check_folder, check_output_file, check_seed
+from .checks import (
+    EPISODES,
+    REPRODUCTION,
+    RESULTS,
+    check_episodes,
+    check_folder,
+    check_output_file,
+    check_seed,
+)
 from .cluster import BACKENDS, ClusterError
 from .config import ANY_PROCESSES, EnvConfig
 from .plugins.registry import PluginError
@@ -107,7 +115,7 @@ def _stated(options: dict[str, Any]) -> dict[str, Any]:
 
 def _episodes(**settings: Any):
     return click.option("--episodes", callback=_checked(check_episodes),
-                        **{"default": 100, "show_default": True, **settings})  # fmt: skip
+                        **{"default": EPISODES, "show_default": True, **settings})  # fmt: skip
 
 
 def _workers(what: str = "Parallel processes"):
@@ -117,7 +125,7 @@ def _workers(what: str = "Parallel processes"):
                         callback=lambda *given: check(*given) or None)  # fmt: skip
 
 
-def _folder(default: str = "results", decl: str = "--out", **settings: Any):
+def _folder(default: str = RESULTS, decl: str = "--out", **settings: Any):
     """An option naming a folder that exists or can be created (``default``)."""
     return click.option(decl, default=default, show_default=True, callback=_checked(check_folder),
                         **settings)  # fmt: skip
@@ -370,7 +378,7 @@ def score(robot, humans, seed, workers, gown_vertices, horizon, **options) -> No
 
 @evaluate.command("reproduce")
 @_CELLS
-@_folder("results/reproduction")
+@_folder(REPRODUCTION)
 @click.option("--human", "humans", multiple=True,
               help="Only these trained humans (repeatable; default: every one that plays one of "
                    "the paper's policies).")  # fmt: skip
@@ -397,7 +405,7 @@ def reproduce_command(out, humans, recipe, doc, **options):
 
 
 @main.command("report")
-@click.argument("results", default="results", type=click.Path(file_okay=False))
+@click.argument("results", default=RESULTS, type=click.Path(file_okay=False))
 @click.option("--videos/--no-videos", default=True, show_default=True,
               help="Render (or reuse) one seeded rollout video per cell.")  # fmt: skip
 @_workers("Processes rendering videos")

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .checks import check_episodes, check_folder
+from .checks import EPISODES, check_episodes, check_folder
 from .config import EnvConfig, check_options, option, option_like
 from .plugins.protocols import TYPICAL_PROFILE
 
@@ -32,7 +32,7 @@ class ScoreOptions:
 
     minutes: float = option(30.0, "Minutes of fine-tuning in all, shared among the generalist "
                             "seeds (0: score them as they are).", _check_minutes)  # fmt: skip
-    episodes: int = option(100, "Rollouts per seed.", check_episodes)
+    episodes: int = option(EPISODES, "Rollouts per seed.", check_episodes)
     profile: str = option_like(EnvConfig, "profile", EnvConfig.profile,
                                "The capability profile the strategy is scored for: the "
                                "generalists are fine-tuned and evaluated under it.")  # fmt: skip

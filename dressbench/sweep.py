@@ -15,7 +15,14 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .checks import check_episodes, check_folder, check_gown_vertices, check_seed
+from .checks import (
+    EPISODES,
+    RESULTS,
+    check_episodes,
+    check_folder,
+    check_gown_vertices,
+    check_seed,
+)
 from .cluster import Backend, ClusterError
 from .config import EnvConfig
 from .training.config import TrainConfig
@@ -39,9 +46,9 @@ class Sweep:
         }  # fmt: skip
     )
     train: Mapping[str, Any] = field(default_factory=dict)
-    episodes: int = 100
+    episodes: int = EPISODES
     seed: int = 0  # the evaluation's base seed (each run's own is a grid axis or in ``train``)
-    results: str = "results"
+    results: str = RESULTS
     workers: int | None = None  # evaluation processes (local) or tasks at once (ray)
     eval_gown_vertices: int = EnvConfig.gown_vertices  # the leaderboard's gown, not training's
 

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..checks import EPISODES, REPRODUCTION
 from ..config import RewardConfig
 from ..files import write_csv, write_png, write_text
 from ..plugins import TYPICAL_PROFILE, human_plugins, load_human
@@ -119,10 +120,10 @@ def reproduction_cells(humans: Mapping[Role, Sequence[str]], **options: Any) -> 
 
 
 def reproduce(
-    episodes: int = 100,
+    episodes: int = EPISODES,
     seed: int = 0,
     workers: int | None = None,
-    out: str | os.PathLike = "results/reproduction",
+    out: str | os.PathLike = REPRODUCTION,
     humans: Mapping[Role, Sequence[str]] | None = None,
     *,
     progress: bool = True,

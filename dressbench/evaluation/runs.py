@@ -15,7 +15,14 @@ from typing import Any, NamedTuple
 import pandas as pd
 from tqdm.auto import tqdm
 
-from ..checks import check_episodes, check_folder, check_processes, check_seed
+from ..checks import (
+    EPISODES,
+    RESULTS,
+    check_episodes,
+    check_folder,
+    check_processes,
+    check_seed,
+)
 from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
@@ -44,10 +51,10 @@ class Evaluated(NamedTuple):
 def evaluate(
     robot: str,
     human: str,
-    episodes: int = 100,
+    episodes: int = EPISODES,
     seed: int = 0,
     workers: int | None = None,
-    out: str | os.PathLike = "results",
+    out: str | os.PathLike = RESULTS,
     *,
     success_depth: float = SUCCESS_DEPTH,
     progress: bool = True,
@@ -78,10 +85,10 @@ def evaluate(
 
 
 def leaderboard_results(
-    episodes: int = 100,
+    episodes: int = EPISODES,
     seed: int = 0,
     workers: int | None = None,
-    out: str | os.PathLike = "results",
+    out: str | os.PathLike = RESULTS,
     humans: Iterable[str] | None = None,
     robots: Iterable[str] | None = None,
     *,

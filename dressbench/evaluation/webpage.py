@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..checks import RESULTS
 from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
 from ..plugins import TYPICAL_PROFILE
 from .report import settings_text, stage_definitions
@@ -42,7 +43,7 @@ STAGES = tuple((stage, STAGE_LABELS[stage]) for stage in STAGE_COLUMNS)
 
 
 def write_report(
-    results: str | os.PathLike = "results",
+    results: str | os.PathLike = RESULTS,
     *,
     videos: bool = True,
     workers: int | None = 1,
