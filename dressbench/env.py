@@ -33,6 +33,7 @@ from .plugins.protocols import (
     ROBOT_ACTION_SIZE,
     ROBOT_DT,
     ROBOT_MAX_SPEED,
+    ROBOT_OBS_SIZE,
     TYPICAL_PROFILE,
 )
 from .scene.body import body_limits
@@ -40,7 +41,6 @@ from .scene.world import Scene, SceneConfig, limited_scene
 from .state import DressingState, measure
 
 HUMAN, ROBOT = "human", "robot"
-ROBOT_OBS_SIZE = 22
 FAILURE_STEP_REWARD = -17.0  # per remaining step: fingertip 1 m off, deformation maxed
 
 

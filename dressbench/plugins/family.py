@@ -18,12 +18,12 @@ import numpy as np
 from ..scene.garment import GownConfig, make_gown
 from ..scene.geometry import capsule_depth, transform_points
 from ..scene.human import Human
-from .protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED
+from .protocols import OBS_TIME, ROBOT_DT, ROBOT_MAX_SPEED, ROBOT_OBS
 from .robots import RIGHT_SHOULDER, yaw_quaternion
 
 KINDS = ("still", "straight", "curve", "reactive")
 MAX_DRAWS = 100  # draws of a member before giving up (the rejection rate is some 3%)
-FINGERTIP, ELBOW, SHOULDER = slice(10, 13), slice(16, 19), slice(19, 22)  # robot observation
+FINGERTIP, ELBOW, SHOULDER = (ROBOT_OBS[point] for point in ("fingertip", "elbow", "shoulder"))
 Range = tuple[float, float]
 
 

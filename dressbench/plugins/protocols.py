@@ -22,7 +22,16 @@ ROBOT_MAX_SPEED = 0.1  # m/s: the gripper speed a robot action of 1 means
 ROBOT_DT = POLICY_DT  # s: one policy step, over which a robot action is applied
 ROBOT_ACTION_SIZE = 3  # the gripper's velocity
 HUMAN_ACTION_SIZE = N_ACTIONS  # PD targets (or torques) of the human's actuated joints
-OBS_TIME = 6  # index of the time (s) in the robot's observation
+# The robot's observation, block by block in order (sizes): where each lies is derived from them
+ROBOT_OBS_BLOCKS = (
+    ("gripper_position", 3), ("gripper_velocity", 3), ("time", 1), ("gripper_force", 3),
+    ("fingertip", 3), ("wrist", 3), ("elbow", 3), ("shoulder", 3),  # the right arm's points
+)  # fmt: skip
+_ENDS = np.cumsum([size for _, size in ROBOT_OBS_BLOCKS]).tolist()
+ROBOT_OBS = {name: slice(end - size, end)
+             for (name, size), end in zip(ROBOT_OBS_BLOCKS, _ENDS, strict=True)}  # fmt: skip
+ROBOT_OBS_SIZE = _ENDS[-1]
+OBS_TIME = ROBOT_OBS["time"].start  # index of the time (s) in the robot's observation
 ROBOT_GROUP = "dressbench.robots"
 HUMAN_GROUP = "dressbench.humans"
 PROFILE_GROUP = "dressbench.profiles"
