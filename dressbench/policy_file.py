@@ -255,8 +255,8 @@ def metadata_problem(metadata: dict[str, Any]) -> str | None:
 
 def _fields_problem(
     document: dict[str, Any],
-    required: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...],
-    optional: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (),
+    required: _Fields,
+    optional: _Fields = (),
 ) -> str | None:
     """The first of ``required`` missing or invalid, else of ``optional`` invalid, or None."""
     for keys, valid, wanted in required:
@@ -364,8 +364,10 @@ def _is_sha256(value: object) -> bool:
 
 
 _MISSING = object()
-# The fields of a version-1 JSON after format and format_version: (keys, check, what it must be).
-_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
+# checked fields, each as (its path of keys, whether a value is valid, what a valid one is)
+_Fields = tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...]
+# The fields of a version-1 JSON after format and format_version.
+_FIELDS: _Fields = (
     (
         ("architecture", "hidden_sizes"),
         lambda v: isinstance(v, list) and all(_is_positive_int(size) for size in v),
@@ -381,11 +383,11 @@ _FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
 )
 # The training metadata the HumanPolicy protocol reads: required, then optional (older files
 # leave them out; checked only where present)
-_METADATA_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
+_METADATA_FIELDS: _Fields = (
     (("ablation",), lambda v: isinstance(v, str), "a string"),
     (("robot",), lambda v: v is None or isinstance(v, str), "a string or null"),
 )
-_OPTIONAL_FIELDS: tuple[tuple[tuple[str, ...], Callable[[Any], bool], str], ...] = (
+_OPTIONAL_FIELDS: _Fields = (
     (("haptics",), lambda v: v in HAPTIC_SCALES, " or ".join(map(repr, HAPTIC_SCALES))),
     (("actuation",), lambda v: v in ACTUATIONS, " or ".join(map(repr, ACTUATIONS))),
     (("profile",), lambda v: isinstance(v, str), "a capability profile's name"),

@@ -34,8 +34,6 @@ from .rollouts import STAGE_DEPTHS, SUCCESS_DEPTH
 from .statistics import RESAMPLES
 from .strategies import ONE_SEED, over_seeds
 
-STRATEGIES = PAPER_STRATEGIES  # the paper's three robot strategies
-
 
 @dataclass(frozen=True)
 class Role:
@@ -115,7 +113,7 @@ def reproduction_cells(humans: Mapping[Role, Sequence[str]], **options: Any) -> 
     """Each role's humans on their robot, then each complete human on the other strategies."""
     pairs = [(role.robot, human) for role, names in humans.items() for human in names]
     complete = [h for role, names in humans.items() if role.ablation == "complete" for h in names]
-    pairs += [(robot, human) for human in complete for robot in STRATEGIES]
+    pairs += [(robot, human) for human in complete for robot in PAPER_STRATEGIES]
     return [checked_cell(robot, human, **options) for robot, human in dict.fromkeys(pairs)]
 
 
@@ -218,7 +216,7 @@ def role_table(
 def cross_play_table(episodes: pd.DataFrame, humans: Mapping[Role, Sequence[str]]) -> pd.DataFrame:
     """Mean final arm progress and max deformation of each complete human on each strategy."""
     complete = [h for role, names in humans.items() if role.ablation == "complete" for h in names]
-    mine = episodes[episodes["human"].isin(complete) & episodes["robot"].isin(STRATEGIES)]
+    mine = episodes[episodes["human"].isin(complete) & episodes["robot"].isin(PAPER_STRATEGIES)]
     table = mine.groupby(["human", "robot"], sort=False)[["final_arm_progress", "max_deformation"]]
     return table.mean().reset_index()
 
