@@ -134,9 +134,14 @@ def _folder(default: str = RESULTS, decl: str = "--out", **settings: Any):
 _SEED_OPTION = click.option("--seed", default=0, show_default=True, callback=_checked(check_seed))
 _GOWN = _option(EnvConfig, "gown_vertices")
 _PROFILE = _option(EnvConfig, "profile", default=None, show_default=False,
-                   help="The humans' capability profile (default: each human's own; typical "
-                        "for the untrained baselines). A leaderboard then scores the humans "
-                        "trained for it, and those --human names, under it.")  # fmt: skip
+                   help="The human's capability profile (default: its own; typical for the "
+                        "untrained baselines).")  # fmt: skip
+# a leaderboard's: repeatable, each human scored under each profile named (a tuple, or None)
+_PROFILES = _option(EnvConfig, "profile", multiple=True, default=(), show_default=False,
+                    callback=lambda _context, _option, given: given or None,
+                    help="The humans' capability profile (default: each human's own; typical "
+                         "for the untrained baselines): the humans trained for it, and those "
+                         "--human names, are scored under it. Repeatable: under each.")  # fmt: skip
 _HORIZON = _option(EnvConfig, "horizon")
 _BACKEND = _options(
     click.option("--backend", type=click.Choice(BACKENDS), default="local", show_default=True,
@@ -316,7 +321,7 @@ def evaluate(ctx: click.Context, robot, human, out, **options):
 
 @evaluate.command("leaderboard")
 @_CELLS
-@_PROFILE
+@_PROFILES
 @_folder()
 @click.option("--robot", "robots", multiple=True, help="Only these robot strategies (repeatable).")
 @click.option("--human", "humans", multiple=True, help="Only these humans (repeatable).")

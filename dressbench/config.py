@@ -13,7 +13,7 @@ from typing import Any
 
 from .checks import check_device, check_gown_vertices, check_horizon, check_int, check_processes
 from .metrics import deformation_limit
-from .observation import ABLATIONS, check_ablation
+from .observation import ABLATIONS
 from .plugins.protocols import TYPICAL_PROFILE
 from .scene.clock import POLICY_DT
 from .scene.garment import GownConfig
@@ -30,12 +30,22 @@ def option(default: Any, help: str, check: Callable[..., Any] | None = None, **m
 
 
 def check_options(options: Any, skip: tuple[str, ...] = ()) -> None:
-    """Run each ``option`` field's check on its value (on each item of a tuple), so that Python
-    refuses what the command line refuses, before anything runs (a ValueError)."""
+    """Run each ``option`` field's check, and its ``choices``, on its value (on each item of a
+    tuple), so that Python refuses what the command line refuses, before anything runs (a
+    ValueError)."""
     for one_field in fields(options):
-        check, value = one_field.metadata.get("check"), getattr(options, one_field.name)
-        if check and one_field.name not in skip:
-            for one in value if isinstance(value, tuple) else (value,):
+        if one_field.name in skip:
+            continue
+        value, metadata = getattr(options, one_field.name), one_field.metadata
+        check, choices = metadata.get("check"), metadata.get("choices")
+        for one in value if isinstance(value, tuple) else (value,):
+            if one is None and one_field.default is None:
+                continue  # an optional option left out
+            if choices is not None and one not in choices:
+                raise ValueError(
+                    f"unknown {one_field.name} {one!r}: choose one of {', '.join(choices)}"
+                )
+            if check:
                 check(one, one_field.name)
 
 
@@ -60,7 +70,7 @@ class SceneOptions:
     device: str = option(SceneConfig.device, "Warp device for the cloth.", check_device)
 
     def __post_init__(self) -> None:
-        check_gown_vertices(self.gown_vertices)  # the device is checked where it is used
+        check_options(self, skip=("device",))  # the device is checked where it is used
 
     def applied(self, scene: SceneConfig) -> SceneConfig:
         """``scene`` with this resolution and device."""
@@ -115,14 +125,12 @@ class EnvConfig(SceneOptions):
     def __post_init__(self) -> None:
         super().__post_init__()
         self.applied(self.scene)  # a scene setting another resolution or device: refused now
-        check_ablation(self.ablation)
         step = self.scene.dt * self.scene.frame_skip
         if abs(step - POLICY_DT) > 1e-9:
             raise ValueError(
                 f"the policy step is {POLICY_DT} s, which robot strategies and humans act on: "
                 f"dt x frame_skip = {self.scene.dt} x {self.scene.frame_skip} = {step:.4g} s"
             )
-        check_horizon(self.horizon)
 
     def scene_config(self) -> SceneConfig:
         """The scene settings with this config's resolution and device applied."""

@@ -21,6 +21,7 @@ from dressbench.env import HUMAN, ROBOT, DressingEnv
 from dressbench.evaluation.cells import make_cell
 from dressbench.evaluation.listing import plugin_rows
 from dressbench.evaluation.rollouts import Runner
+from dressbench.evaluation.runs import profiles_cells
 from dressbench.factory import make_human_env
 from dressbench.plugins import (
     PROFILE_GROUP,
@@ -400,6 +401,18 @@ def test_a_typical_cell_keeps_its_identity_and_another_profile_has_its_own():
     assert typical.key != tremor.key
     assert typical.columns["config_id"] != tremor.columns["config_id"]
     assert (typical.columns["profile"], tremor.columns["profile"]) == ("typical", "tremor")
+
+
+def test_a_leaderboard_scores_its_humans_under_each_profile_asked_each_cell_once():
+    asked = ("typical", "tremor", "typical")
+    cells = profiles_cells(["fixed"], ["passive", "fixed-default-s0"], profile=asked, horizon=2,
+                           **SMALL)  # fmt: skip
+    assert sorted((cell.human, cell.profile) for cell in cells) == [
+        ("fixed-default-s0", "tremor"), ("fixed-default-s0", "typical"),
+        ("passive", "tremor"), ("passive", "typical"),
+    ]  # fmt: skip
+    one = profiles_cells(["fixed"], ["passive"], profile="weak_arm", horizon=2, **SMALL)
+    assert [cell.profile for cell in one] == ["weak_arm"]
 
 
 def test_a_training_run_records_its_profile_and_a_typical_run_keeps_its_name():

@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -287,6 +288,24 @@ def test_a_run_starts_its_policy_at_the_action_std_it_is_given(tmp_path):
     assert np.exp(model.policy.log_std.detach().numpy()) == pytest.approx(0.4)
     with pytest.raises(ValueError, match="action_std"):
         TrainConfig(action_std=0.0)
+
+
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ({"algo": "sac"}, "unknown algo 'sac': choose one of trpo, ppo"),
+        ({"haptics": "kg"}, "unknown haptics 'kg'"),
+        ({"ablation": "no_eyes"}, "unknown ablation 'no_eyes'"),
+        ({"timesteps": 0}, "timesteps must be at least 1"),
+        ({"horizon": 0}, "horizon must be from 1"),
+        ({"name": "../escape"}, "name must be a plain file name"),
+        ({"init": "a/b"}, "init must be a plain file name"),
+    ],
+)
+def test_a_train_config_refuses_in_python_what_the_command_line_refuses(bad, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        TrainConfig(**bad)
+    assert TrainConfig(init=None).init is None  # an optional option left out
 
 
 def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():

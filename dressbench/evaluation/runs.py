@@ -103,13 +103,14 @@ def leaderboard_results(
 
     The cells are every ok robot plugin × every ok human plugin trained for it or generic
     (``robot`` None, as the baselines passive, random and scripted); ``robots`` / ``humans``
-    restrict the names. Returns the three tables it writes (``Evaluated``). ``backend``,
+    restrict the names; ``profile``, one capability profile or several, scores them under each
+    (``profiles_cells``). Returns the three tables it writes (``Evaluated``). ``backend``,
     ``address`` and ``episode_timeout`` are those of ``evaluate``; a cell whose episode fails is
     left out with a warning naming the plugin, its package and the episode's seed (run_meta.json
     lists it), and the others are scored.
     """
     where = check_run(episodes, seed, workers, out, backend, address, episode_timeout)
-    cells = leaderboard_cells(robots, humans, **options)
+    cells = profiles_cells(robots, humans, **options)
     if not cells:
         raise ValueError(
             "nothing to evaluate: no usable robot strategy with a usable human meant for it"
@@ -118,6 +119,21 @@ def leaderboard_results(
         cells, episodes, seed, workers, Path(out), success_depth, progress, "leaderboard", options,
         backend=where, episode_timeout=episode_timeout,
     )  # fmt: skip
+
+
+def profiles_cells(
+    robots: Iterable[str] | None, humans: Iterable[str] | None, **options: Any
+) -> list[Cell]:
+    """``leaderboard_cells`` under each capability profile of ``options["profile"]`` (one name
+    or several; left out: each human under its own), in that order, each cell once."""
+    asked = options.pop("profile", None)
+    if asked is None:
+        return leaderboard_cells(robots, humans, **options)
+    profiles = [asked] if isinstance(asked, str) else list(dict.fromkeys(asked))
+    robots, humans = (None if names is None else list(names) for names in (robots, humans))
+    found = [cell for profile in profiles
+             for cell in leaderboard_cells(robots, humans, **options, profile=profile)]  # fmt: skip
+    return list(dict.fromkeys(found))
 
 
 def leaderboard(*args: Any, **kwargs: Any) -> pd.DataFrame:

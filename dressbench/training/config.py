@@ -11,18 +11,15 @@ from typing import Any
 
 from ..checks import (
     check_folder,
-    check_gown_vertices,
-    check_horizon,
     check_int,
     check_name,
-    check_processes,
     check_seed,
 )
-from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, option, option_like
+from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, check_options, option, option_like
 from ..factory import DEFAULT_ROBOT
-from ..observation import HAPTIC_SCALES, check_haptic_scale
+from ..observation import HAPTIC_SCALES
 from ..plugins.protocols import TYPICAL_PROFILE
-from ..scene.actuation import ACTUATIONS, check_actuation
+from ..scene.actuation import ACTUATIONS
 from .curriculum import CurriculumConfig
 from .tear import TearConfig
 from .warmup import WarmupConfig
@@ -110,24 +107,13 @@ class TrainConfig:
                               "unless asked for.", check_name)  # fmt: skip
 
     def __post_init__(self) -> None:
-        if self.algo not in ALGORITHMS:
-            raise ValueError(f"unknown algorithm {self.algo!r}: choose one of {ALGORITHMS}")
-        check_actuation(self.actuation)
-        check_haptic_scale(self.haptics)
-        check_int(self.timesteps, "timesteps", 1)
-        check_processes(self.envs, "envs", zero="one per core")
-        check_int(self.envs_per_process, "envs_per_process", 1)
-        check_seed(self.seed)
-        check_gown_vertices(self.gown_vertices)
-        check_horizon(self.horizon)
-        check_int(self.samples_per_update, "samples_per_update", 1)
+        check_options(self, skip=("out", "policies"))  # the folders: by check(), before a run
         check_int(self.checkpoint_every, "checkpoint_every", 1)
         for field in ("action_std", "norm_epsilon"):
             if not getattr(self, field) > 0.0:
                 raise ValueError(f"{field} must be > 0, got {getattr(self, field)}")
         if self.hours is not None and not self.hours > 0.0:
             raise ValueError(f"hours must be > 0 (or None for no budget), got {self.hours}")
-        check_name(self.name)
 
     def check(self) -> None:
         """What a run needs besides its numbers, checked before anything is written: the robot
