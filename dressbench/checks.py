@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from math import inf
 from pathlib import Path
 
 EPISODES = 100  # rollouts per cell (and per seed) of an evaluation unless told otherwise
@@ -80,6 +81,16 @@ def check_processes(count: object, name: str = "workers", zero: str = "") -> int
         allowed = f"0 ({zero}) or {allowed}" if zero else allowed
         raise ValueError(f"{lead}must be {allowed} (each process holds its own env), got {count}")
     return count
+
+
+def check_episode_timeout(seconds: object, name: str = "episode_timeout") -> float | None:
+    """None (the default limit) or a positive, finite number of seconds."""
+    if seconds is None:
+        return None
+    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not 0 < seconds < inf:
+        lead = f"{name} " if name else ""
+        raise ValueError(f"{lead}must be positive seconds, got {seconds!r}")
+    return float(seconds)
 
 
 def check_folder(path: str | os.PathLike[str], name: str = "out") -> Path:

@@ -22,6 +22,7 @@ from .checks import (
     EPISODES,
     REPRODUCTION,
     RESULTS,
+    check_episode_timeout,
     check_episodes,
     check_folder,
     check_output_file,
@@ -152,7 +153,7 @@ _BACKEND = _options(
 )  # fmt: skip
 _CELLS = _options(_episodes(), _SEED_OPTION, _workers(), _GOWN, _HORIZON)
 _EPISODE_TIMEOUT = click.option(
-    "--episode-timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+    "--episode-timeout", type=float, default=None, callback=_checked(check_episode_timeout),
     help="Seconds an episode may run before its cell is flagged (default: in proportion to "
          "the horizon x the gown's vertices, with a floor; docs/evaluation.md).",
 )  # fmt: skip

@@ -10,6 +10,7 @@ from click.testing import CliRunner
 from dressbench.cli import main
 from dressbench.config import EnvConfig
 from dressbench.evaluation.readme import command_line
+from dressbench.evaluation.runs import check_run
 from dressbench.evaluation.strategies import STRATEGIES_BLOCK
 from dressbench.scene.garment import GownConfig
 from dressbench.scene.world import SceneConfig
@@ -110,6 +111,19 @@ def test_a_doc_without_its_block_is_refused_before_anything_is_evaluated(command
     result = CliRunner().invoke(main, ["evaluate", command, "--doc", str(doc), "--out", str(out)])
     assert result.exit_code == 1 and f"has no {block} block" in result.output
     assert len(result.output.strip().splitlines()) == 1 and not out.exists()
+
+
+@pytest.mark.parametrize("seconds", ["0", "-1", "nan", "inf"])
+def test_an_episode_time_limit_that_is_no_positive_number_is_refused_as_python_refuses_it(
+    seconds, tmp_path
+):
+    out = tmp_path / "out"
+    given = ["--robot", "fixed", "--human", "passive", "--episode-timeout", seconds]
+    result = CliRunner().invoke(main, ["evaluate", *given, "--out", str(out)])
+    assert result.exit_code == 2 and "must be positive seconds" in result.output
+    with pytest.raises(ValueError, match="episode_timeout must be positive seconds"):
+        check_run(1, 0, None, out, "local", None, episode_timeout=float(seconds))
+    assert not out.exists()
 
 
 def _default(command: list[str], name: str):

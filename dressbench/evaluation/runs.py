@@ -18,6 +18,7 @@ from tqdm.auto import tqdm
 from ..checks import (
     EPISODES,
     RESULTS,
+    check_episode_timeout,
     check_episodes,
     check_folder,
     check_processes,
@@ -157,8 +158,7 @@ def check_run(
     created and not a folder of someone else's files that the results would replace
     (``ownership.check_owned``), ``backend`` and ``address`` as ``Backend`` takes them,
     ``episode_timeout`` None or positive. Returns the backend."""
-    if episode_timeout is not None and not episode_timeout > 0:
-        raise ValueError(f"episode_timeout must be positive seconds, got {episode_timeout!r}")
+    check_episode_timeout(episode_timeout)
     check_episodes(episodes)
     check_seed(seed)
     if workers is not None:
