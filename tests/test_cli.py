@@ -70,6 +70,34 @@ def test_the_command_a_results_readme_gives_remakes_its_tables_from_the_cache(tm
     assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0
 
 
+def test_a_leaderboard_under_several_profiles_scores_each_and_its_readme_names_each(tmp_path):
+    tiny = ["--episodes", "1", "--workers", "1", "--horizon", "4", "--gown-vertices", "300"]
+    asked = [
+        "--robot",
+        "fixed",
+        "--human",
+        "passive",
+        "--profile",
+        "typical",
+        "--profile",
+        "tremor",
+    ]
+    result = CliRunner().invoke(
+        main, ["evaluate", "leaderboard", *tiny, *asked, "--out", str(tmp_path)]
+    )
+    assert result.exit_code == 0, result.output
+    meta = json.loads((tmp_path / "run_meta.json").read_text())
+    assert [cell["profile"] for cell in meta["cells"]] == ["typical", "tremor"]
+    assert list(pd.read_csv(tmp_path / "leaderboard.csv")["profile"]) == ["typical", "tremor"]
+    assert "| fixed | passive | complete | tremor |" in (tmp_path / "README.md").read_text()
+    line = command_line(meta)
+    assert "--profile typical --profile tremor" in line
+    words = line.split()[1:]  # as written, it re-makes the tables from the cache
+    result = CliRunner().invoke(main, [*words, "--workers", "1", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "run_meta.json").read_text())["episodes_run"] == 0
+
+
 def test_an_unknown_strategy_is_a_one_line_error_not_a_traceback():
     for command in (["evaluate", "--robot", "fixd", "--human", "passive"],
                     ["evaluate", "leaderboard", "--robot", "fixd"]):  # fmt: skip

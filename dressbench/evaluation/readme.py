@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ..files import read_json, write_text
+from ..plugins.protocols import TYPICAL_PROFILE
 
 README = "README.md"
 MARKER = ".dressbench-results"  # marks a folder as dressbench's results folder (ownership.py)
@@ -109,7 +110,8 @@ def command_line(meta: dict[str, Any]) -> str:
         words.append(meta["command"])
     words += ["--episodes", str(meta["episodes_per_cell"]), "--seed", str(meta["seed"])]
     for option, value in meta.get("options", {}).items():
-        words += [f"--{option.replace('_', '-')}", str(value)]
+        for one in value if isinstance(value, (list, tuple)) else [value]:  # repeatable: each
+            words += [f"--{option.replace('_', '-')}", str(one)]
     for role in ("robot", "human") if meta["command"] != "reproduce" else ("human",):
         for name in dict.fromkeys(cell[role] for cell in cells):
             words += [f"--{role}", name]
@@ -126,10 +128,11 @@ def _evaluation(meta: dict[str, Any], folder: Path) -> list[str]:
         f"are reused, so this run simulated {meta['episodes_run']} of them in "
         f"{meta['elapsed_seconds'] / 60:.0f} min on {meta['workers']} {meta['backend']} "
         f"workers, started {meta['started']}).", "",
-        "| robot | human | ablation | the human is |", "|---|---|---|---|",
+        "| robot | human | ablation | profile | the human is |", "|---|---|---|---|---|",
     ]  # fmt: skip
     for cell, plugin in zip(meta["cells"], meta["plugins"], strict=True):
-        lines.append(f"| {cell['robot']} | {cell['human']} | {cell['ablation']} "
+        profile = cell.get("profile", TYPICAL_PROFILE)  # a table made before profiles: typical
+        lines.append(f"| {cell['robot']} | {cell['human']} | {cell['ablation']} | {profile} "
                      f"| {_source(plugin['human'])} |")  # fmt: skip
     lines += ["", "## Files", ""]
     robots = list(dict.fromkeys(cell["robot"] for cell in meta["cells"]))
