@@ -83,14 +83,18 @@ def check_processes(count: object, name: str = "workers", zero: str = "") -> int
     return count
 
 
+def check_positive(value: object, name: str = "", unit: str = "number") -> float:
+    """``value`` as a float if it is a positive, finite number (``unit`` says of what in the
+    message); else a ValueError saying so."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < inf:
+        lead = f"{name} " if name else ""
+        raise ValueError(f"{lead}must be a positive {unit}, got {value!r}")
+    return float(value)
+
+
 def check_episode_timeout(seconds: object, name: str = "episode_timeout") -> float | None:
     """None (the default limit) or a positive, finite number of seconds."""
-    if seconds is None:
-        return None
-    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not 0 < seconds < inf:
-        lead = f"{name} " if name else ""
-        raise ValueError(f"{lead}must be positive seconds, got {seconds!r}")
-    return float(seconds)
+    return None if seconds is None else check_positive(seconds, name, "number of seconds")
 
 
 def check_folder(path: str | os.PathLike[str], name: str = "out") -> Path:

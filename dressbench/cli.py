@@ -211,7 +211,7 @@ def plugins(check: bool) -> None:
 @main.command()
 @_fields(TrainConfig, "robot", "algo", "ablation", "profile")
 @_option(TrainConfig, "timesteps", recipe=True)
-@_option(TrainConfig, "hours", type=click.FloatRange(min=0.0, min_open=True))
+@_option(TrainConfig, "hours", type=float)
 @_fields(TrainConfig, "envs", "envs_per_process", "seed")
 @_option(TrainConfig, "gown_vertices", recipe=True)
 @_fields(TrainConfig, "out", "policies", "name")
@@ -224,7 +224,7 @@ def plugins(check: bool) -> None:
          type=click.FloatRange(min=1.0, min_open=True))  # fmt: skip
 @click.option("--no-tear-limit", is_flag=True, help="Never end a training episode for tearing.")
 @_option(TrainConfig, "actuation", recipe=True)
-@_option(TrainConfig, "action_std", recipe=True, type=click.FloatRange(min=0.0, min_open=True))
+@_option(TrainConfig, "action_std", recipe=True)
 @_option(TrainConfig, "haptics", recipe=True)
 @_option(TrainConfig, "init")
 def train(resume: bool, **options: Any) -> None:
@@ -264,14 +264,14 @@ def train(resume: bool, **options: Any) -> None:
          help="Algorithms (repeatable: a grid axis; default: the recipe's).")  # fmt: skip
 @_option(TrainConfig, "recipe")
 @_option(TrainConfig, "timesteps", recipe=True)
-@_option(TrainConfig, "hours", type=click.FloatRange(min=0.0, min_open=True))
+@_option(TrainConfig, "hours", type=float)
 @_option(TrainConfig, "envs", default=1,
          help="Env processes per run, each a CPU it reserves (0: one per core).")  # fmt: skip
 @_option(TrainConfig, "gown_vertices", recipe=True)
 @_option(TrainConfig, "horizon")
 @_option(EnvConfig, "gown_vertices", "--eval-gown-vertices", "eval_gown_vertices",
          help="The leaderboard's gown, in vertices.")  # fmt: skip
-@_option(TrainConfig, "samples_per_update", recipe=True, type=click.IntRange(min=1))
+@_option(TrainConfig, "samples_per_update", recipe=True)
 @_option(TrainConfig, "curriculum", "--curriculum/--no-curriculum", recipe=True, type=None)
 @_option(TrainConfig, "haptics", recipe=True)
 @_fields(TrainConfig, "out", "policies")

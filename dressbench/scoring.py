@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .checks import EPISODES, check_episodes, check_folder
+from .checks import EPISODES, check_episodes, check_folder, check_positive
 from .config import EnvConfig, check_options, option, option_like
 from .plugins.protocols import TYPICAL_PROFILE
 
@@ -21,9 +21,10 @@ TUNED = f"{GENERALIST}-tuned"  # a strategy's humans fine-tuned from them: ROBOT
 
 
 def _check_minutes(value: float, name: str = "minutes") -> float:
-    if not value >= 0.0:
-        raise ValueError(f"{name} must be >= 0, got {value}")
-    return value
+    """0 (no fine-tuning) or a positive, finite number of minutes."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0:
+        return 0.0
+    return check_positive(value, name, "number of minutes (or 0)")
 
 
 @dataclass(frozen=True)

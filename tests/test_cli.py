@@ -148,8 +148,8 @@ def test_an_episode_time_limit_that_is_no_positive_number_is_refused_as_python_r
     out = tmp_path / "out"
     given = ["--robot", "fixed", "--human", "passive", "--episode-timeout", seconds]
     result = CliRunner().invoke(main, ["evaluate", *given, "--out", str(out)])
-    assert result.exit_code == 2 and "must be positive seconds" in result.output
-    with pytest.raises(ValueError, match="episode_timeout must be positive seconds"):
+    assert result.exit_code == 2 and "must be a positive number of seconds" in result.output
+    with pytest.raises(ValueError, match="episode_timeout must be a positive number of seconds"):
         check_run(1, 0, None, out, "local", None, episode_timeout=float(seconds))
     assert not out.exists()
 

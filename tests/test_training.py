@@ -300,12 +300,30 @@ def test_a_run_starts_its_policy_at_the_action_std_it_is_given(tmp_path):
         ({"horizon": 0}, "horizon must be from 1"),
         ({"name": "../escape"}, "name must be a plain file name"),
         ({"init": "a/b"}, "init must be a plain file name"),
+        ({"action_std": 0.0}, "action_std must be a positive number, got 0.0"),
+        ({"hours": float("inf")}, "hours must be a positive number, got inf"),
     ],
 )
 def test_a_train_config_refuses_in_python_what_the_command_line_refuses(bad, message):
     with pytest.raises(ValueError, match=re.escape(message)):
         TrainConfig(**bad)
     assert TrainConfig(init=None).init is None  # an optional option left out
+
+
+@pytest.mark.parametrize(
+    ("command", "option", "value", "message"),
+    [
+        ("train", "--action-std", "0", "must be a positive number, got 0.0"),
+        ("train", "--hours", "-1", "must be a positive number, got -1.0"),
+        ("sweep", "--hours", "nan", "must be a positive number, got nan"),
+        ("sweep", "--samples-per-update", "0", "must be at least 1"),
+    ],
+)
+def test_the_command_line_refuses_a_training_setting_with_the_fields_own_check(
+    command, option, value, message
+):
+    result = CliRunner().invoke(main, [command, "--robot", "fixed", option, value])
+    assert result.exit_code == 2 and message in result.output, result.output
 
 
 def test_a_no_haptics_run_records_no_tear_limit_since_its_reward_has_no_r_d():

@@ -13,6 +13,7 @@ from ..checks import (
     check_folder,
     check_int,
     check_name,
+    check_positive,
     check_seed,
 )
 from ..config import ANY_PROCESSES, AT_LEAST_ONE, EnvConfig, check_options, option, option_like
@@ -50,7 +51,8 @@ class TrainConfig:
     # a budget of learning time in hours, summed over the run's sessions as run.json counts
     # it: training stops where it runs out, short of ``timesteps``, and exports; None: none
     hours: float | None = option(None, "Stop and export once the run has learned this long, "
-                                 "its sessions summed (default: no budget).")  # fmt: skip
+                                 "its sessions summed (default: no budget).",
+                                 check_positive)  # fmt: skip
     envs: int = option(0, "Parallel env processes (default: one per core).", ANY_PROCESSES)
     # envs each process steps one after another (vec_env.py)
     envs_per_process: int = option(1, "Envs each env process steps one after another.",
@@ -68,7 +70,7 @@ class TrainConfig:
     # the initial std of the policy's Gaussian actions; with "delta" actions the noise
     # random-walks the PD targets, so SB3's default of 1 carries a near start away, while 0.3
     # explores too little from rest once the curriculum is over (docs/training.md)
-    action_std: float = option(0.5, "Initial std of the policy's actions.")
+    action_std: float = option(0.5, "Initial std of the policy's actions.", check_positive)
     # the human's action: PD targets ("pd"), moves of them ("delta": a zero action holds the
     # pose, so a near start of the curriculum stays near), or torques; the trained policy
     # declares it, and every env that runs the policy takes it from there
@@ -109,11 +111,7 @@ class TrainConfig:
     def __post_init__(self) -> None:
         check_options(self, skip=("out", "policies"))  # the folders: by check(), before a run
         check_int(self.checkpoint_every, "checkpoint_every", 1)
-        for field in ("action_std", "norm_epsilon"):
-            if not getattr(self, field) > 0.0:
-                raise ValueError(f"{field} must be > 0, got {getattr(self, field)}")
-        if self.hours is not None and not self.hours > 0.0:
-            raise ValueError(f"hours must be > 0 (or None for no budget), got {self.hours}")
+        check_positive(self.norm_epsilon, "norm_epsilon")
 
     def check(self) -> None:
         """What a run needs besides its numbers, checked before anything is written: the robot
