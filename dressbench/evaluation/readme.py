@@ -29,6 +29,9 @@ FILES = {
     "strategies.png": "each strategy's scores with their intervals, and each seed's mean",
     "profiles.png": "each strategy under each capability profile, with intervals (written "
     "where the strategy table holds more than one profile)",
+    "members.md": "the episodes against the family, split by the member each faced: its kind "
+    "and the direction of its start (written where a family strategy was scored)",
+    "members.csv": "the same, every column",
     "episodes.csv": "one row per rollout: its seed, final arm progress, max deformation, stages",
     "curves.csv": "mean and std of arm progress and deformation at every policy step, per cell",
     "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",

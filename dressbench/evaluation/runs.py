@@ -29,6 +29,7 @@ from ..files import write_csv
 from ..provenance import git_commit, versions
 from .archive import load_archive, save_archive
 from .cells import Cell, checked_cell, describe_plugin, leaderboard_cells, warn_losing_duplicates
+from .members import write_members
 from .ownership import check_owned, claim
 from .remote import ray_tasks
 from .report import stage_definitions, success_definition, write_summary
@@ -277,6 +278,7 @@ def evaluate_cells(
         "git_commit": git_commit(),
     }
     strategies = write_strategies(out, table, seed)  # before the summary, whose README lists them
+    write_members(out, table, seed)
     write_summary(out, curves, board, meta, success_depth)
     return Evaluated(table, board, strategies)
 
