@@ -447,7 +447,8 @@ def render(robot: str, human: str, path: str, **episode: Any) -> None:
 @click.option("--title", default="learning against time", show_default=True)
 def curves(summaries: tuple[str, ...], out: str, title: str) -> None:
     """Hand-in and past-the-elbow rates, final progress and max deformation against hours of
-    learning: one curve per learning summary (NAME-progress.csv, as training writes it)."""
+    learning (minutes where every run learned an hour or less): one curve per learning summary
+    (NAME-progress.csv, as training writes it)."""
     from .training.summary import write_time_comparison
 
     runs = {Path(s).name.removesuffix("-progress.csv"): s for s in summaries}

@@ -35,6 +35,7 @@ def test_the_time_figure_draws_every_run_against_hours_and_names_runs_that_did_n
     hand_in = panels["hand in, episodes begun at rest"]
     assert [line.get_label() for line in hand_in.lines] == ["coarse gown"]
     assert hand_in.lines[0].get_xdata().tolist() == [0.25, 0.5, 1.0]  # hours, not steps
+    assert hand_in.get_xlabel() == "hours of learning"
     progress = panels["final arm progress, begun at rest"]
     assert [line.get_ydata()[-1] for line in progress.lines] == [0.4, 0.3]
     colour = {line.get_label(): line.get_color() for line in progress.lines}
@@ -50,6 +51,14 @@ def test_the_time_figure_draws_every_run_against_hours_and_names_runs_that_did_n
         table.to_csv(paths[label], index=False)
     png = write_time_comparison(paths, tmp_path / "levers" / "fixed.png", "fixed")
     assert png.read_bytes().startswith(b"\x89PNG")
+
+
+def test_runs_of_an_hour_or_less_are_drawn_against_minutes():
+    tuned = pd.DataFrame({STEPS: [1, 2, 3], "time/time_elapsed": [120, 300, 600],
+                          "rollout/rest_start_hand_in_rate": [0.1, 0.2, 0.3]})  # fmt: skip
+    axes = time_figure({"fine-tuned": tuned}, "fixed", smooth=1).axes[0]
+    assert axes.get_xlabel() == "minutes of learning"
+    assert axes.lines[0].get_xdata().tolist() == [2.0, 5.0, 10.0]
 
 
 @pytest.mark.filterwarnings("ignore")

@@ -162,24 +162,27 @@ TIME_PANELS = (
 
 
 def time_figure(tables: Mapping[str, pd.DataFrame], title: str, smooth: int = 5) -> Figure:
-    """One curve per run (``tables``: label -> learning table) against hours of learning, the
-    axis a recipe's cost is counted on; each curve a rolling mean of ``smooth`` updates. A run
+    """One curve per run (``tables``: label -> learning table) against hours of learning (minutes
+    where every run learned for an hour or less, as a fine-tuning does), the axis a recipe's cost
+    is counted on; each curve a rolling mean of ``smooth`` updates. A run
     keeps its colour in every panel; the legend, under the panels, names the panels a run did
     not log (an older run lacks the rates of episodes begun at rest)."""
     figure = Figure(figsize=(4.3 * len(TIME_PANELS), 4.6), layout="constrained")
     figure.suptitle(title)
     colours = {label: f"C{i % 10}" for i, label in enumerate(tables)}
     missing: dict[str, list[str]] = {label: [] for label in tables}
+    longest = max((learning_seconds(table).max() for table in tables.values()), default=0.0)
+    seconds, time_unit = (60.0, "minutes") if longest <= 3600.0 else (3600.0, "hours")
     for axes, (column, name, unit) in zip(figure.subplots(1, len(TIME_PANELS)), TIME_PANELS,
                                           strict=True):  # fmt: skip
-        axes.set(title=name, xlabel="hours of learning", ylabel=unit)
+        axes.set(title=name, xlabel=f"{time_unit} of learning", ylabel=unit)
         axes.grid(alpha=0.3)
         for label, table in tables.items():
             if not _logged(table, column):
                 missing[label].append(name.split(",")[0])
                 continue
             values = table[column].astype(float).rolling(smooth, min_periods=1).mean()
-            axes.plot(learning_seconds(table) / 3600.0, values, color=colours[label], label=label)
+            axes.plot(learning_seconds(table) / seconds, values, color=colours[label], label=label)
     handles = [
         Line2D([], [], color=colours[label],
                label=label + (f" (not logged: {', '.join(missing[label])})" if missing[label]
@@ -213,7 +216,7 @@ def read_learning_summary(
 
 def write_time_comparison(progress: Mapping[str, str | Path], out: str | Path, title: str) -> Path:
     """Draw the learning summaries' tables (``progress``: label -> ``NAME-progress.csv``)
-    against hours of learning into the PNG ``out``."""
+    against learning time (``time_figure``) into the PNG ``out``."""
     tables = {label: read_learning_summary(path) for label, path in progress.items()}
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
