@@ -9,15 +9,15 @@ family``.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from ..files import write_csv, write_text
 from ..plugins.family import KINDS, Family, FamilyConfig, Member, cylindrical, episode_members
-from .schema import CELL_COLUMNS, STAGE_COLUMNS, STAGE_LABELS
-from .statistics import CONFIDENCE, bootstrap_ci, wilson_ci
+from .report import rate_text, summary_text
+from .schema import CELL_COLUMNS, MEMBER_COLUMNS, STAGE_COLUMNS, STAGE_LABELS
+from .statistics import CONFIDENCE, RESAMPLES, episode_scores
 
 MEMBERS = "members"  # members.csv and members.md, beside an evaluation's other tables
 # where a member's start lies about the right shoulder: the azimuth's upper bound (degrees,
@@ -26,15 +26,6 @@ MEMBERS = "members"  # members.csv and members.md, beside an evaluation's other 
 APPROACHES = ((180.0, "ahead"), (-30.0, "front right"), (-60.0, "right side"),
               (-90.0, "behind right"))  # fmt: skip
 SPLITS = {"kind": KINDS, "approach": tuple(name for _, name in APPROACHES)}
-SCORES = ["final_arm_progress", "max_deformation"]
-MEMBER_COLUMNS = [
-    *CELL_COLUMNS,
-    "split",
-    "member",
-    "episodes",
-    *(f"{score}_{stat}" for score in SCORES for stat in ("mean", "ci_low", "ci_high")),
-    *(f"{stage}_{stat}" for stage in STAGE_COLUMNS for stat in ("rate", "ci_low", "ci_high")),
-]
 
 
 def approach(member: Member) -> str:
@@ -59,22 +50,8 @@ def member_table(
                 group = split[split[by] == value]
                 if len(group):
                     rows.append({**dict(zip(CELL_COLUMNS, key, strict=True)), "split": by,
-                                 "member": value, **_scores(group, seed)})  # fmt: skip
+                                 "member": value, **episode_scores(group, seed)})  # fmt: skip
     return pd.DataFrame(rows, columns=MEMBER_COLUMNS)
-
-
-def _scores(group: pd.DataFrame, seed: int) -> dict[str, Any]:
-    row: dict[str, Any] = {"episodes": len(group)}
-    for score in SCORES:
-        values = group[score].astype(float)
-        low, high = bootstrap_ci(values, seed)
-        row |= {f"{score}_mean": values.mean(), f"{score}_ci_low": low, f"{score}_ci_high": high}
-    for stage in STAGE_COLUMNS:
-        reached = int(group[stage].astype(bool).sum())
-        low, high = wilson_ci(reached, len(group))
-        row |= {f"{stage}_rate": reached / len(group), f"{stage}_ci_low": low,
-                f"{stage}_ci_high": high}  # fmt: skip
-    return row
 
 
 def members_markdown(table: pd.DataFrame) -> str:
@@ -84,28 +61,38 @@ def members_markdown(table: pd.DataFrame) -> str:
         "# dressbench: the family's episodes by member",
         "",
         "Each human's episodes against the family, split by the member of the family each "
-        "episode faced (known from its episode seed): by kind (still, straight, curve, "
-        "reactive) and by the direction its start lies in from the right shoulder (ahead: "
-        "azimuth above -30°, where `fixed` and `front_linear` start; front right: -60° to -30°; "
-        "right side: -90° to -60°, where `side_linear` starts; behind right: below -90°). "
-        f"Means with their {CONFIDENCE:.0%} percentile bootstrap interval over the episodes; "
-        f"stage rates with their {CONFIDENCE:.0%} Wilson interval.",
+        f"episode faced (known from its episode seed): by kind ({', '.join(KINDS)}) and by the "
+        f"direction its start lies in from the right shoulder, by its azimuth from straight "
+        f"ahead, negative toward the human's right ({_approaches_text()}; `fixed` and "
+        "`front_linear` start ahead, `side_linear` at the right side). "
+        f"Means ± sample std over the episodes, and in brackets the {CONFIDENCE:.0%} "
+        f"percentile-bootstrap interval of the mean ({RESAMPLES:,} resamples); stage rates with "
+        f"their {CONFIDENCE:.0%} Wilson interval.",
         "",
         f"| robot | human | profile | split | member | episodes | final arm progress (m) "
         f"| max deformation | {stages} |",
         "|---|---|---|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     for r in table.itertuples():
-        scores = [_text(r, "final_arm_progress", "{:.3f}"), _text(r, "max_deformation", "{:.2f}"),
-                  *(_text(r, stage, "{:.0%}", "rate") for stage in STAGE_COLUMNS)]  # fmt: skip
+        scores = [summary_text(r, "final_arm_progress", "{:.3f}"),
+                  summary_text(r, "max_deformation", "{:.2f}"),
+                  *(rate_text(r, stage) for stage in STAGE_COLUMNS)]  # fmt: skip
         lines.append(f"| {r.robot} | {r.human} | {r.profile} | {r.split} | {r.member} "
                      f"| {r.episodes} | {' | '.join(scores)} |")  # fmt: skip
     return "\n".join(lines) + "\n"
 
 
-def _text(row: Any, score: str, number: str, centre: str = "mean") -> str:
-    value, low, high = (getattr(row, f"{score}_{s}") for s in (centre, "ci_low", "ci_high"))
-    return f"{number.format(value)} [{number.format(low)}, {number.format(high)}]"
+def _approaches_text() -> str:
+    """Each approach and its azimuths, as the caption gives them."""
+    lowers = [bound for bound, _ in APPROACHES[1:]] + [None]
+    return "; ".join(f"{name}: {_band(lower, upper)}"
+                     for (upper, name), lower in zip(APPROACHES, lowers, strict=True))  # fmt: skip
+
+
+def _band(lower: float | None, upper: float) -> str:
+    if upper >= 180.0:
+        return f"above {lower:g}°"
+    return f"below {upper:g}°" if lower is None else f"{lower:g}° to {upper:g}°"
 
 
 def family_configs(robots: list[str]) -> dict[str, FamilyConfig]:

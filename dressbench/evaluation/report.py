@@ -70,9 +70,9 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in board.itertuples():
-        progress = _summary(r, "final_arm_progress", "{:.3f}")
-        deformation = _summary(r, "max_deformation", "{:.2f}")
-        rates = " | ".join(_rate(r, stage) for stage in stages)
+        progress = summary_text(r, "final_arm_progress", "{:.3f}")
+        deformation = summary_text(r, "max_deformation", "{:.2f}")
+        rates = " | ".join(rate_text(r, stage) for stage in stages)
         lines.append(
             f"| {r.robot} | {r.human} | {r.ablation} | {r.profile} | {r.episodes} | {progress} "
             f"| {deformation} | {rates} | {r.sim_failures} |"
@@ -80,14 +80,14 @@ def markdown_leaderboard(board: pd.DataFrame, success_depth: float = SUCCESS_DEP
     return "\n".join(lines) + "\n"
 
 
-def _rate(row: Any, stage: str) -> str:
-    """``rate [low, high]`` of one stage of a leaderboard row."""
+def rate_text(row: Any, stage: str) -> str:
+    """``rate [low, high]`` of one stage of a leaderboard (or member) row."""
     rate, low, high = (getattr(row, f"{stage}_{s}") for s in ("rate", "ci_low", "ci_high"))
     return f"{rate:.0%} [{low:.0%}, {high:.0%}]"
 
 
-def _summary(row: Any, metric: str, number: str) -> str:
-    """``mean ± std [low, high]`` of one metric of a leaderboard row."""
+def summary_text(row: Any, metric: str, number: str) -> str:
+    """``mean ± std [low, high]`` of one metric of a leaderboard (or member) row."""
     mean, std, low, high = (
         getattr(row, f"{metric}_{s}") for s in ("mean", "std", "ci_low", "ci_high")
     )

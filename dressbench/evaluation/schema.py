@@ -47,16 +47,21 @@ STAGE_COLUMNS = ["hand_in", "success", "dressed"]
 # each stage's name in tables, captions and the report
 STAGE_LABELS = {"hand_in": "hand in", "success": "past the elbow (success)", "dressed": "dressed"}
 
-LEADERBOARD_COLUMNS = [
-    *KEY_COLUMNS,
+# What a group of episodes scored (``statistics.episode_scores``).
+SCORE_COLUMNS = [
     "episodes",
     *_summary("final_arm_progress"),
     *_summary("max_deformation"),
     *_rate("hand_in"),
     *_rate("success"),
     *_rate("dressed"),
-    "sim_failures",
 ]
+
+LEADERBOARD_COLUMNS = [*KEY_COLUMNS, *SCORE_COLUMNS, "sim_failures"]
+
+# A family cell's episodes split by the member each faced (members.py): by which split (the
+# member's kind, or the direction of its start) and into which member.
+MEMBER_COLUMNS = [*CELL_COLUMNS, "split", "member", *SCORE_COLUMNS]
 
 # What a row of the strategy table is: a robot strategy, the group of humans trained for it
 # (groups.py: the recipe and ablation they were trained with), the env settings and base seed.

@@ -51,28 +51,34 @@ def wilson_ci(successes: int, trials: int, confidence: float = CONFIDENCE) -> tu
 
 
 def leaderboard_table(episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
-    """One row per cell of an episodes table: mean, std and bootstrap CI of the final scores,
-    and each stage's rate with its Wilson interval."""
+    """One row per cell of an episodes table: its ``episode_scores`` and simulation failures."""
     rows = []
     for key, group in episodes.groupby(KEY_COLUMNS, sort=False):
         row: dict[str, Any] = dict(zip(KEY_COLUMNS, key, strict=True))
-        row["episodes"] = len(group)
-        for metric in ("final_arm_progress", "max_deformation"):
-            values = group[metric].astype(float)
-            low, high = bootstrap_ci(values, seed)
-            row |= {
-                f"{metric}_mean": values.mean(),
-                f"{metric}_std": values.std(),  # sample std (ddof 1); NaN for one episode
-                f"{metric}_ci_low": low,
-                f"{metric}_ci_high": high,
-            }
-        for stage in STAGE_COLUMNS:
-            reached = int(group[stage].astype(bool).sum())
-            row[f"{stage}_rate"] = reached / len(group)
-            row[f"{stage}_ci_low"], row[f"{stage}_ci_high"] = wilson_ci(reached, len(group))
+        row |= episode_scores(group, seed)
         row["sim_failures"] = int(group["sim_failure"].sum())
         rows.append(row)
     return pd.DataFrame(rows, columns=LEADERBOARD_COLUMNS)
+
+
+def episode_scores(group: pd.DataFrame, seed: int = 0) -> dict[str, Any]:
+    """What a group of episodes scored: their count; mean, std and bootstrap CI of the final
+    scores; each stage's rate with its Wilson interval."""
+    row: dict[str, Any] = {"episodes": len(group)}
+    for metric in ("final_arm_progress", "max_deformation"):
+        values = group[metric].astype(float)
+        low, high = bootstrap_ci(values, seed)
+        row |= {
+            f"{metric}_mean": values.mean(),
+            f"{metric}_std": values.std(),  # sample std (ddof 1); NaN for one episode
+            f"{metric}_ci_low": low,
+            f"{metric}_ci_high": high,
+        }
+    for stage in STAGE_COLUMNS:
+        reached = int(group[stage].astype(bool).sum())
+        row[f"{stage}_rate"] = reached / len(group)
+        row[f"{stage}_ci_low"], row[f"{stage}_ci_high"] = wilson_ci(reached, len(group))
+    return row
 
 
 def curve_table(cells: Iterable[tuple[Mapping[str, Any], Sequence[EpisodeRecord]]]) -> pd.DataFrame:
