@@ -17,6 +17,7 @@ from click.testing import CliRunner
 
 from dressbench.cli import main
 from dressbench.evaluation import leaderboard
+from dressbench.evaluation.members import write_members
 from dressbench.evaluation.strategies import write_strategies
 from dressbench.evaluation.webpage import write_report
 
@@ -136,6 +137,24 @@ def test_the_report_shows_the_strategy_table_and_its_figure_first(results, tmp_p
     source, width = seen["images"][0]
     assert source == "images/strategies.png" and width > 0
     assert [src for src, _ in seen["images"]].count(source) == 1
+
+
+def test_the_report_shows_the_familys_episodes_by_member_only_where_it_was_scored(
+    results, tmp_path
+):
+    assert 'id="members"' not in write_report(results, videos=False, progress=False).read_text()
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
+    episodes = pd.read_csv(copy / "episodes.csv").assign(robot="family")  # as if against it
+    table = write_members(copy, episodes)
+    page = write_report(copy, videos=False, progress=False).read_text()
+    shown = re.search(r'<table id="members">.*?</table>', page, re.S).group(0)
+    assert shown.count("<tr>") == 1 + len(table)  # the header and every row
+    assert "passive" in shown and "kind" in shown and "approach" in shown
+    (copy / "members.csv").write_text("split,member\nkind\n")
+    with pytest.raises(ValueError, match=r"members\.csv: not a member table") as refused:
+        write_report(copy, videos=False, progress=False)
+    assert "\n" not in str(refused.value)
 
 
 def test_the_report_is_self_contained_and_videos_are_cached(results):

@@ -26,7 +26,8 @@ import pandas as pd
 from ..checks import RESULTS
 from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
 from ..plugins import TYPICAL_PROFILE
-from .report import settings_text, stage_definitions
+from .members import MEMBERS
+from .report import rate_text, settings_text, stage_definitions, summary_text
 from .rollouts import SUCCESS_DEPTH, episode_seed
 from .schema import STAGE_COLUMNS, STAGE_LABELS
 from .strategies import STRATEGY_CAPTION, score_text
@@ -74,7 +75,8 @@ def write_report(
     if videos:
         clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
-    write_text(page, report_html(board, meta, images, clips, strategy_section(results)))
+    sections = {"strategies": strategy_section(results), "members": member_section(results)}
+    write_text(page, report_html(board, meta, images, clips, **sections))
     return page
 
 
@@ -137,6 +139,30 @@ def strategy_section(results: Path) -> dict[str, Any] | None:
               "note"]  # fmt: skip
     figure = STRATEGY_FIGURE if (results / STRATEGY_FIGURE).is_file() else None
     return {"header": header, "rows": rows, "caption": STRATEGY_CAPTION, "figure": figure}
+
+
+def member_section(results: Path) -> dict[str, Any] | None:
+    """The member table (``members.csv``, read as untrusted input) as the page shows it: its
+    header and rows as text; None where the results scored no family strategy."""
+    path = results / f"{MEMBERS}.csv"
+    if not path.is_file():
+        return None
+    data = read_untrusted(path, "a results file")
+    try:
+        table = pd.read_csv(io.BytesIO(data))
+        rows = [
+            [str(value) for value in (
+                r.human, _profile(r), r.split, r.member, r.episodes,
+                summary_text(r, "final_arm_progress", "{:.3f}"),
+                summary_text(r, "max_deformation", "{:.2f}"),
+                *(rate_text(r, stage) for stage, _ in STAGES))]
+            for r in table.itertuples()
+        ]  # fmt: skip
+    except (ValueError, UnicodeDecodeError, AttributeError) as error:
+        raise ValueError(f"{path}: not a member table ({_one_line(error)})") from None
+    header = ["human", "profile", "split", "member", "episodes", "final arm progress (m)",
+              "max deformation", *(label for _, label in STAGES)]  # fmt: skip
+    return {"header": header, "rows": rows} if rows else None
 
 
 def _profile(row: Any) -> str:
@@ -299,10 +325,12 @@ def report_html(
     images: list[str],
     clips: dict[tuple[str, str, str], tuple[str | None, str]],
     strategies: dict[str, Any] | None = None,
+    members: dict[str, Any] | None = None,
 ) -> str:
     """The whole page as one string (no external resource but the images and videos beside it);
     every value is escaped by the template engine (values come from files of a results folder);
-    ``strategies`` is the strategy section (``strategy_section``), shown first."""
+    ``strategies`` is the strategy section (``strategy_section``), shown first; ``members``
+    the family's episodes by member (``member_section``), after the leaderboard."""
     import jinja2
 
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
@@ -336,6 +364,7 @@ def report_html(
         title="dressbench report",
         settings=settings_text(board),
         strategies=strategies,
+        members=members,
         header=[(h, "number" if i in numeric else "text") for i, h in enumerate(header)],
         rows=rows,
         definitions=[(label, stages[stage]) for stage, label in STAGES],
@@ -448,6 +477,17 @@ pre { background: #f6f6f6; padding: 0.6em; overflow: auto; font-size: 0.8em; }
 in brackets, the confidence interval of the mean ({{ interval }}); rates carry their 95% Wilson
 interval. Arm progress is the arm's depth in the sleeve (m); max deformation is the largest
 triangle area ratio (stretched / rest) of the episode.</p>
+{% if members -%}
+<h2>The family's episodes by member</h2>
+<div class="scroll"><table id="members"><thead><tr>
+{%- for label in members.header %}<th>{{ label }}</th>{% endfor -%}
+</tr></thead><tbody>
+{%- for row in members.rows %}<tr>{% for value in row %}<td>{{ value }}</td>{% endfor %}</tr>
+{%- endfor %}</tbody></table></div>
+<p>Each family cell's episodes split by the member each faced: its kind, and the direction of
+its start from the right shoulder (members.md defines the directions). Means ± sample std, the
+interval of the mean in brackets; rates with their 95% Wilson interval.</p>
+{% endif -%}
 <h2>What success means</h2>
 <dl>{% for label, text in definitions %}<dt>{{ label }}</dt><dd>{{ text }}.</dd>{% endfor %}</dl>
 <h2>Curves and scores</h2>
