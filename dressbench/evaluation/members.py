@@ -37,9 +37,9 @@ def approach(member: Member) -> str:
 def member_table(
     episodes: pd.DataFrame, configs: dict[str, FamilyConfig], seed: int = 0
 ) -> pd.DataFrame:
-    """One row per cell of a family strategy (``configs``: its robot names and distributions),
-    split by the kind of member and by its approach: the episodes, mean final arm progress and
-    max deformation with their bootstrap CIs, and each stage's rate with its Wilson interval."""
+    """For each cell of a family strategy (``configs``: its robot names and distributions), a
+    row per kind of member and a row per approach that its episodes faced, with what those
+    episodes scored (``statistics.episode_scores``)."""
     rows = []
     for key, cell in episodes[episodes["robot"].isin(configs)].groupby(CELL_COLUMNS, sort=False):
         seeds = [int(s) for s in cell["episode_seed"]]
