@@ -15,6 +15,7 @@ import json
 import multiprocessing
 import os
 import sys
+from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -116,22 +117,14 @@ def _one_line(error: BaseException) -> str:
 def strategy_section(results: Path) -> dict[str, Any] | None:
     """The strategy table (``strategies.csv``, read as untrusted input) as the page shows it
     first: its header, its rows as text and its figure; None where there is no table."""
-    path = results / "strategies.csv"
-    if not path.is_file():
-        return None
-    data = read_untrusted(path, "a results file")
-    try:
-        table = pd.read_csv(io.BytesIO(data), dtype={"note": str}).fillna({"note": ""})
-        rows = [
-            [str(value) for value in (
-                r.rank, r.robot, r.recipe, r.ablation, _profile(r), r.seeds, r.episodes,
-                score_text(r, "final_arm_progress", "mean", "{:.3f}"),
-                score_text(r, "max_deformation", "mean", "{:.2f}"),
-                *(score_text(r, stage, "rate", "{:.0%}") for stage, _ in STAGES), r.note)]
-            for r in table.itertuples()
-        ]  # fmt: skip
-    except (ValueError, UnicodeDecodeError, AttributeError) as error:
-        raise ValueError(f"{path}: not a strategy table ({_one_line(error)})") from None
+    rows = _table_rows(
+        results / "strategies.csv", "a strategy table",
+        lambda r: (r.rank, r.robot, r.recipe, r.ablation, _profile(r), r.seeds, r.episodes,
+                   score_text(r, "final_arm_progress", "mean", "{:.3f}"),
+                   score_text(r, "max_deformation", "mean", "{:.2f}"),
+                   *(score_text(r, stage, "rate", "{:.0%}") for stage, _ in STAGES), r.note),
+        lambda table: table.fillna({"note": ""}), dtype={"note": str},
+    )  # fmt: skip
     if not rows:
         return None
     header = ["rank", "robot", "recipe", "ablation", "profile", "seeds", "episodes",
@@ -144,25 +137,36 @@ def strategy_section(results: Path) -> dict[str, Any] | None:
 def member_section(results: Path) -> dict[str, Any] | None:
     """The member table (``members.csv``, read as untrusted input) as the page shows it: its
     header and rows as text; None where the results scored no family strategy."""
-    path = results / f"{MEMBERS}.csv"
+    rows = _table_rows(
+        results / f"{MEMBERS}.csv", "a member table",
+        lambda r: (r.human, _profile(r), r.split, r.member, r.episodes,
+                   summary_text(r, "final_arm_progress", "{:.3f}"),
+                   summary_text(r, "max_deformation", "{:.2f}"),
+                   *(rate_text(r, stage) for stage, _ in STAGES)),
+    )  # fmt: skip
+    header = ["human", "profile", "split", "member", "episodes", "final arm progress (m)",
+              "max deformation", *(label for _, label in STAGES)]  # fmt: skip
+    return {"header": header, "rows": rows} if rows else None
+
+
+def _table_rows(
+    path: Path,
+    what: str,
+    row: Callable[[Any], Sequence[Any]],
+    prepare: Callable[[pd.DataFrame], pd.DataFrame] = lambda table: table,
+    **read: Any,
+) -> list[list[str]] | None:
+    """A results table's rows as text (``row`` of each), read as untrusted input and made
+    ready by ``prepare``; None where the file is missing, a ValueError naming it (``what`` it
+    should be) where it is malformed."""
     if not path.is_file():
         return None
     data = read_untrusted(path, "a results file")
     try:
-        table = pd.read_csv(io.BytesIO(data))
-        rows = [
-            [str(value) for value in (
-                r.human, _profile(r), r.split, r.member, r.episodes,
-                summary_text(r, "final_arm_progress", "{:.3f}"),
-                summary_text(r, "max_deformation", "{:.2f}"),
-                *(rate_text(r, stage) for stage, _ in STAGES))]
-            for r in table.itertuples()
-        ]  # fmt: skip
+        table = prepare(pd.read_csv(io.BytesIO(data), **read))
+        return [[str(value) for value in row(r)] for r in table.itertuples()]
     except (ValueError, UnicodeDecodeError, AttributeError) as error:
-        raise ValueError(f"{path}: not a member table ({_one_line(error)})") from None
-    header = ["human", "profile", "split", "member", "episodes", "final arm progress (m)",
-              "max deformation", *(label for _, label in STAGES)]  # fmt: skip
-    return {"header": header, "rows": rows} if rows else None
+        raise ValueError(f"{path}: not {what} ({_one_line(error)})") from None
 
 
 def _profile(row: Any) -> str:
