@@ -142,7 +142,8 @@ _PROFILES = _option(EnvConfig, "profile", multiple=True, default=(), show_defaul
                     callback=lambda _context, _option, given: given or None,
                     help="The humans' capability profile (default: each human's own; typical "
                          "for the untrained baselines): the humans trained for it, and those "
-                         "--human names, are scored under it. Repeatable: under each.")  # fmt: skip
+                         "--human names, are scored under it. Repeatable: under each (a named "
+                         "human adapted to one of them: under that one alone).")  # fmt: skip
 _HORIZON = _option(EnvConfig, "horizon")
 _BACKEND = _options(
     click.option("--backend", type=click.Choice(BACKENDS), default="local", show_default=True,

@@ -8,7 +8,9 @@ them); the third-party profiles are fake distributions on ``sys.path`` (``tests/
 
 from __future__ import annotations
 
+import json
 import shutil
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -413,6 +415,36 @@ def test_a_leaderboard_scores_its_humans_under_each_profile_asked_each_cell_once
     ]  # fmt: skip
     one = profiles_cells(["fixed"], ["passive"], profile="weak_arm", horizon=2, **SMALL)
     assert [cell.profile for cell in one] == ["weak_arm"]
+
+
+def test_a_leaderboard_scores_an_adapted_human_under_its_own_profile_when_that_is_asked(
+    policies_on_path, tmp_path
+):
+    folder = tmp_path / "policies"
+    shipped = Path(dressbench.__file__).parent / "policies"
+    for name, profile in (("fixed-default-s0", None), ("fixed-tremor-tuned-s0", "tremor")):
+        document = json.loads((shipped / "fixed-default-s0.json").read_text())
+        document["name"] = name
+        if profile:
+            document["profile"] = profile
+        (folder / f"{name}.json").write_text(json.dumps(document))
+        shutil.copy(shipped / "fixed-default-s0.safetensors", folder / f"{name}.safetensors")
+    refresh()
+    humans = ["fixed-default-s0", "fixed-tremor-tuned-s0"]
+
+    def scored(*asked):
+        cells = profiles_cells(["fixed"], humans, profile=asked, horizon=2, **SMALL)
+        return sorted((cell.human, cell.profile) for cell in cells)
+
+    assert scored("typical", "weak_arm", "tremor") == [
+        ("fixed-default-s0", "tremor"), ("fixed-default-s0", "typical"),
+        ("fixed-default-s0", "weak_arm"), ("fixed-tremor-tuned-s0", "tremor"),
+    ]  # fmt: skip
+    # its own profile not asked: how it does under those asked is the question
+    assert scored("typical", "weak_arm") == [
+        ("fixed-default-s0", "typical"), ("fixed-default-s0", "weak_arm"),
+        ("fixed-tremor-tuned-s0", "typical"), ("fixed-tremor-tuned-s0", "weak_arm"),
+    ]  # fmt: skip
 
 
 def test_a_training_run_records_its_profile_and_a_typical_run_keeps_its_name():

@@ -127,15 +127,54 @@ def profiles_cells(
     robots: Iterable[str] | None, humans: Iterable[str] | None, **options: Any
 ) -> list[Cell]:
     """``leaderboard_cells`` under each capability profile of ``options["profile"]`` (one name
-    or several; left out: each human under its own), in that order, each cell once."""
+    or several; left out: each human under its own), in that order, each cell once.
+
+    A named human adapted to a profile other than typical is scored under that profile alone
+    when it is among those asked (one command then makes the grid of typical humans under every
+    profile beside each adapted human under its own), and under those asked when it is not."""
     asked = options.pop("profile", None)
     if asked is None:
         return leaderboard_cells(robots, humans, **options)
     profiles = [asked] if isinstance(asked, str) else list(dict.fromkeys(asked))
     robots, humans = (None if names is None else list(names) for names in (robots, humans))
-    found = [cell for profile in profiles
-             for cell in leaderboard_cells(robots, humans, **options, profile=profile)]  # fmt: skip
+    adapted = {} if humans is None else _adapted_profiles(humans)
+
+    def named(profile: str) -> list[str] | None:
+        """The named humans scored under ``profile``."""
+        if humans is None:
+            return None
+        return [
+            name
+            for name in humans
+            if adapted.get(name, profile) == profile or adapted[name] not in profiles
+        ]
+
+    found = [
+        cell
+        for profile in profiles
+        for cell in leaderboard_cells(robots, named(profile), **options, profile=profile)
+    ]
     return list(dict.fromkeys(found))
+
+
+def _adapted_profiles(names: Iterable[str]) -> dict[str, str]:
+    """The profile each named human was adapted to, for those of a profile other than typical
+    (a human that cannot be made is left to ``leaderboard_cells`` to report)."""
+    from ..plugins import TYPICAL_PROFILE, human_plugins
+    from ..plugins.contract import declared_profile
+
+    records, adapted = human_plugins(), {}
+    for name in names:
+        record = records.get(name)
+        if record is None or not record.ok:
+            continue
+        try:
+            profile = declared_profile(record.factory())
+        except Exception:  # reported with its package when the cells are made
+            continue
+        if isinstance(profile, str) and profile != TYPICAL_PROFILE:
+            adapted[name] = profile
+    return adapted
 
 
 def leaderboard(*args: Any, **kwargs: Any) -> pd.DataFrame:
