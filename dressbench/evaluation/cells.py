@@ -306,6 +306,18 @@ def _require_profile(name: str) -> None:
         raise ValueError(f"capability profile {name!r} cannot be evaluated: {problem}")
 
 
+def adapted_profiles(names: Iterable[str]) -> dict[str, str]:
+    """The profile each named human was adapted to, for those of one other than typical (a
+    human that is unknown, broken or cannot be made is left to ``leaderboard_cells`` to report)."""
+    from ..plugins.contract import declared_profile
+
+    records = human_plugins()
+    policies, _ = _instances(records, [n for n in names if n in records and records[n].ok])
+    declared = {name: declared_profile(policy) for name, policy in policies.items()}
+    return {name: profile for name, profile in declared.items()
+            if isinstance(profile, str) and profile != TYPICAL_PROFILE}  # fmt: skip
+
+
 def _instances(
     records: Mapping[str, Any], names: Iterable[str]
 ) -> tuple[dict[str, HumanPolicy], list[tuple[str, str, str]]]:

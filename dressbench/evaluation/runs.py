@@ -28,7 +28,14 @@ from ..cluster import Backend
 from ..files import write_csv
 from ..provenance import git_commit, versions
 from .archive import load_archive, save_archive
-from .cells import Cell, checked_cell, describe_plugin, leaderboard_cells, warn_losing_duplicates
+from .cells import (
+    Cell,
+    adapted_profiles,
+    checked_cell,
+    describe_plugin,
+    leaderboard_cells,
+    warn_losing_duplicates,
+)
 from .members import write_members
 from .ownership import check_owned, claim
 from .remote import ray_tasks
@@ -137,7 +144,7 @@ def profiles_cells(
         return leaderboard_cells(robots, humans, **options)
     profiles = [asked] if isinstance(asked, str) else list(dict.fromkeys(asked))
     robots, humans = (None if names is None else list(names) for names in (robots, humans))
-    adapted = {} if humans is None else _adapted_profiles(humans)
+    adapted = {} if humans is None else adapted_profiles(humans)
 
     def named(profile: str) -> list[str] | None:
         """The named humans scored under ``profile``."""
@@ -155,26 +162,6 @@ def profiles_cells(
         for cell in leaderboard_cells(robots, named(profile), **options, profile=profile)
     ]
     return list(dict.fromkeys(found))
-
-
-def _adapted_profiles(names: Iterable[str]) -> dict[str, str]:
-    """The profile each named human was adapted to, for those of a profile other than typical
-    (a human that cannot be made is left to ``leaderboard_cells`` to report)."""
-    from ..plugins import TYPICAL_PROFILE, human_plugins
-    from ..plugins.contract import declared_profile
-
-    records, adapted = human_plugins(), {}
-    for name in names:
-        record = records.get(name)
-        if record is None or not record.ok:
-            continue
-        try:
-            profile = declared_profile(record.factory())
-        except Exception:  # reported with its package when the cells are made
-            continue
-        if isinstance(profile, str) and profile != TYPICAL_PROFILE:
-            adapted[name] = profile
-    return adapted
 
 
 def leaderboard(*args: Any, **kwargs: Any) -> pd.DataFrame:
