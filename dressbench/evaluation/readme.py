@@ -189,6 +189,10 @@ def _continue_command(config: dict[str, Any], name: str) -> str:
         flags.append(f"--recipe {recipe}")
     if config.get("algo", "trpo") != "trpo":
         flags.append(f"--algo {config['algo']}")
+    if config.get("profile", TYPICAL_PROFILE) != TYPICAL_PROFILE:
+        flags.append(f"--profile {config['profile']}")
+    if config.get("init"):
+        flags.append(f"--init {config['init']}")
     flags += [f"--seed {config.get('seed', 0)}", f"--timesteps {config['timesteps']}"]
     if recipe == "default":
         off = [part for part in ("curriculum", "warmup") if part in config and config[part] is None]
