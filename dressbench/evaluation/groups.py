@@ -21,6 +21,7 @@ class TrainedHuman:
     ablation: str
     seed: int
     profile: str = TYPICAL_PROFILE  # the body it was trained in
+    parent: str | None = None  # the human it was fine-tuned from (``--init``); None: from scratch
 
     @property
     def group(self) -> tuple[str, str, str, str]:
@@ -48,7 +49,10 @@ def human_group(
     recipe = spelled["recipe"] + (spelled["suffixes"] or "") if spelled else config.get("recipe")
     if seed is None or recipe is None:
         return None
-    return TrainedHuman(robot, recipe, ablation, int(seed), profile)
+    parent = (metadata or {}).get("parent")
+    parent = parent.get("name") if isinstance(parent, dict) else None
+    return TrainedHuman(robot, recipe, ablation, int(seed), profile,
+                        parent if isinstance(parent, str) else None)  # fmt: skip
 
 
 _NAME = re.compile(r"(?P<recipe>.+?)-s(?P<seed>\d+)(?P<suffixes>-.+)?")

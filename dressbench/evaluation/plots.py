@@ -170,12 +170,17 @@ def strategies_figure(table: pd.DataFrame, seeds: pd.DataFrame) -> Figure:
 def profiles_figure(table: pd.DataFrame) -> Figure:
     """Each strategy (along x) under each capability profile: one marker per group of humans
     (profile, recipe, ablation) with its mean over seeds and 95% interval, for final arm
-    progress and max deformation: which strategy holds up for whom."""
-    figure = Figure(figsize=(max(7.0, 2.0 * table["robot"].nunique() + 4.0), 5.0),
+    progress and max deformation: which strategy holds up for whom. A colour is a profile and a
+    marker a kind of human (filled: the first recipe and ablation, e.g. the typical humans; open:
+    the others, e.g. humans adapted to the profile), so each adapted human stands beside the
+    typical one in the same body."""
+    figure = Figure(figsize=(max(7.0, 2.0 * table["robot"].nunique() + 4.0), 5.6),
                     layout="constrained")  # fmt: skip
     robots = sorted(table["robot"].unique())
     groups = sorted(table.groupby(["profile", "recipe", "ablation"]),
                     key=lambda group: (group[0][0] != TYPICAL_PROFILE, group[0]))  # fmt: skip
+    profiles = list(dict.fromkeys(profile for (profile, _, _), _ in groups))
+    kinds = list(dict.fromkeys((recipe, ablation) for (_, recipe, ablation), _ in groups))
     width = 0.8 / len(groups)
     for axes, metric, title in zip(
         figure.subplots(1, 2),
@@ -187,12 +192,16 @@ def profiles_figure(table: pd.DataFrame) -> Figure:
             x = np.array([robots.index(r) for r in rows["robot"]]) + (k + 0.5) * width - 0.4
             mean = rows[f"{metric}_mean"].to_numpy()
             whiskers = [mean - rows[f"{metric}_ci_low"], rows[f"{metric}_ci_high"] - mean]
-            axes.errorbar(x, mean, yerr=whiskers, fmt="o", capsize=4, color=f"C{k % 10}",
+            kind = kinds.index((recipe, ablation))
+            color = f"C{profiles.index(profile) % 10}"
+            axes.errorbar(x, mean, yerr=whiskers, fmt="osD^v<>"[kind % 7], capsize=4, color=color,
+                          markerfacecolor=color if kind == 0 else "white",
                           label=f"{profile} ({recipe}, {ablation})")  # fmt: skip
         axes.set_xticks(np.arange(len(robots)), robots)
         axes.set_xlim(-0.6, len(robots) - 0.4)
         axes.set_title(title)
         axes.grid(axis="y", alpha=0.3)
-    axes.legend(fontsize="small", title="profile (recipe, ablation)")
+    figure.legend(*axes.get_legend_handles_labels(), loc="outside lower center", fontsize="small",
+                  ncols=min(len(groups), 4), title="profile (recipe, ablation)")  # fmt: skip
     figure.suptitle("strategies under each capability profile: mean over seeds, 95% CI")
     return figure

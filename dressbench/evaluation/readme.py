@@ -32,6 +32,10 @@ FILES = {
     "members.md": "the episodes against the family, split by the member each faced: its kind "
     "and the direction of its start (written where a family strategy was scored)",
     "members.csv": "the same, every column",
+    "finetuned.md": "each fine-tuned human against the human it started from, rollout by "
+    "rollout: the paired change in each score with its interval (written where both were "
+    "scored on the same rollouts)",
+    "finetuned.csv": "the same, every column",
     "episodes.csv": "one row per rollout: its seed, final arm progress, max deformation, stages",
     "curves.csv": "mean and std of arm progress and deformation at every policy step, per cell",
     "run_meta.json": "how the tables were made: seeds, settings, plugin versions, commit",

@@ -36,6 +36,7 @@ from .cells import (
     leaderboard_cells,
     warn_losing_duplicates,
 )
+from .finetuned import write_finetuned
 from .members import write_members
 from .ownership import check_owned, claim
 from .remote import ray_tasks
@@ -305,6 +306,7 @@ def evaluate_cells(
     }
     strategies = write_strategies(out, table, seed)  # before the summary, whose README lists them
     write_members(out, table, seed)
+    write_finetuned(out, table, seed)
     write_summary(out, curves, board, meta, success_depth)
     return Evaluated(table, board, strategies)
 

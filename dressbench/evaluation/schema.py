@@ -99,3 +99,25 @@ IMPROVEMENT_COLUMNS = [
     "ci_high",
     "separated",
 ]
+
+# One row per fine-tuned human and setting where its parent played the same rollouts
+# (finetuned.py): each score's mean for both, and the paired change with its interval.
+FINETUNED_SCORES = ["final_arm_progress", "max_deformation", "success"]
+FINETUNED_COLUMNS = [
+    "robot",
+    "human",
+    "parent",
+    "ablation",
+    "profile",
+    "config_id",
+    "episodes",
+    *(
+        f"{score}{part}"
+        for score in FINETUNED_SCORES
+        for part in ("", "_parent", "_change", "_change_ci_low", "_change_ci_high")
+    ),
+    "deeper",
+    "deeper_ci_low",
+    "deeper_ci_high",
+    "verdict",
+]
