@@ -17,6 +17,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     import pandas as pd
     from matplotlib.figure import Figure
 
@@ -91,6 +93,20 @@ def write_text(path: str | os.PathLike, text: str) -> None:
 def write_csv(path: str | os.PathLike, table: pd.DataFrame) -> None:
     """Replace ``path`` by ``table`` as CSV (no index) atomically."""
     write_text(path, table.to_csv(index=False))
+
+
+def write_table(
+    out: str | os.PathLike, stem: str, table: pd.DataFrame, markdown: Callable[[pd.DataFrame], str]
+) -> None:
+    """Write ``stem``.csv and ``stem``.md (``markdown(table)``) into ``out``, or remove both
+    where ``table`` is empty: an earlier evaluation's would show cells not scored now."""
+    csv, text = Path(out) / f"{stem}.csv", Path(out) / f"{stem}.md"
+    if table.empty:
+        csv.unlink(missing_ok=True)
+        text.unlink(missing_ok=True)
+    else:
+        write_csv(csv, table)
+        write_text(text, markdown(table))
 
 
 def write_json(path: str | os.PathLike, data: Any) -> None:

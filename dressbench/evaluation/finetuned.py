@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..files import write_csv, write_text
+from ..files import write_table
 from .groups import TrainedHuman, trained_humans
 from .schema import FINETUNED_COLUMNS, FINETUNED_SCORES
 from .statistics import CONFIDENCE, RESAMPLES, bootstrap_ci
@@ -115,11 +115,5 @@ def write_finetuned(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.Data
     parent on the same rollouts (and remove an earlier evaluation's otherwise); returns the
     table."""
     table = finetuned_table(episodes, seed=seed)
-    csv, markdown = out / f"{FINETUNED}.csv", out / f"{FINETUNED}.md"
-    if table.empty:
-        csv.unlink(missing_ok=True)
-        markdown.unlink(missing_ok=True)
-    else:
-        write_csv(csv, table)
-        write_text(markdown, finetuned_markdown(table))
+    write_table(out, FINETUNED, table, finetuned_markdown)
     return table

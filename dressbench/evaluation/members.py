@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..files import write_csv, write_text
+from ..files import write_table
 from ..plugins.family import KINDS, Family, FamilyConfig, Member, cylindrical, episode_members
 from .report import rate_text, summary_text
 from .schema import CELL_COLUMNS, MEMBER_COLUMNS, STAGE_COLUMNS, STAGE_LABELS
@@ -114,11 +114,5 @@ def write_members(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.DataFr
     (and remove an earlier evaluation's, which would show cells not scored here); returns the
     table."""
     table = member_table(episodes, family_configs(list(episodes["robot"].unique())), seed)
-    csv, markdown = out / f"{MEMBERS}.csv", out / f"{MEMBERS}.md"
-    if table.empty:
-        csv.unlink(missing_ok=True)
-        markdown.unlink(missing_ok=True)
-    else:
-        write_csv(csv, table)
-        write_text(markdown, members_markdown(table))
+    write_table(out, MEMBERS, table, members_markdown)
     return table
