@@ -22,6 +22,12 @@ from .statistics import CONFIDENCE, RESAMPLES, bootstrap_ci
 
 FINETUNED = "finetuned"  # finetuned.csv and finetuned.md, beside an evaluation's other tables
 PAIRED_ON = ["robot", "profile", "config_id", "episode_seed"]  # one rollout seed in one setting
+# what a change whose interval excludes 0 says, (up, down) per score, in the verdict
+VERDICT_WORDS = {
+    "final_arm_progress": ("deeper", "shallower"),
+    "success": ("past the elbow more often", "past the elbow less often"),
+    "max_deformation": ("deforms more", "deforms less"),
+}
 
 
 def finetuned_table(
@@ -30,8 +36,8 @@ def finetuned_table(
     """One row per fine-tuned human and setting (robot, profile, env config) where its parent
     played the same rollout seeds: each score's mean for both, the mean paired change with its
     bootstrap interval, P[the human goes deeper than its parent on the same rollout] (ties
-    half), and the verdict on depth (``deeper`` or ``shallower`` where the interval of the
-    change in final arm progress excludes 0). ``humans`` default: ``trained_humans``."""
+    half), and the verdict: each change whose interval excludes 0, in words (``VERDICT_WORDS``),
+    or "not separated". ``humans`` default: ``trained_humans``."""
     if humans is None:
         humans = trained_humans(
             episodes[["human", "robot", "ablation"]].itertuples(index=False, name=None)
@@ -68,8 +74,13 @@ def _paired_scores(paired: pd.DataFrame, seed: int) -> dict[str, object]:
     deeper = (progress > parent) + 0.5 * (progress == parent)
     row["deeper"] = deeper.mean()
     row["deeper_ci_low"], row["deeper_ci_high"] = bootstrap_ci(deeper, seed)
-    low, high = row["final_arm_progress_change_ci_low"], row["final_arm_progress_change_ci_high"]
-    row["verdict"] = "deeper" if low > 0 else "shallower" if high < 0 else "not separated"
+    separated = []
+    for score, (up, down) in VERDICT_WORDS.items():
+        if row[f"{score}_change_ci_low"] > 0:
+            separated.append(up)
+        elif row[f"{score}_change_ci_high"] < 0:
+            separated.append(down)
+    row["verdict"] = ", ".join(separated) or "not separated"
     return row
 
 
@@ -84,8 +95,7 @@ def finetuned_markdown(table: pd.DataFrame) -> str:
         f"mean → the fine-tuned human's, then the mean change over the paired rollouts with its "
         f"{CONFIDENCE:.0%} percentile-bootstrap interval ({RESAMPLES:,} resamples of the pairs). "
         "P(deeper): the share of rollouts on which the fine-tuned human ends deeper, ties half. "
-        "The verdict is on final arm progress: deeper or shallower where the change's interval "
-        "excludes 0.",
+        "The verdict names each change whose interval excludes 0.",
         "",
         "| robot | profile | human | fine-tuned from | rollouts | final arm progress (m) "
         "| max deformation | past the elbow | P(deeper) | verdict |",
