@@ -17,6 +17,7 @@ from click.testing import CliRunner
 
 from dressbench.cli import main
 from dressbench.evaluation import leaderboard
+from dressbench.evaluation.finetuned import write_finetuned
 from dressbench.evaluation.members import write_members
 from dressbench.evaluation.strategies import write_strategies
 from dressbench.evaluation.webpage import write_report
@@ -153,6 +154,25 @@ def test_the_report_shows_the_familys_episodes_by_member_only_where_it_was_score
     assert "passive" in shown and "kind" in shown and "approach" in shown
     (copy / "members.csv").write_text("split,member\nkind\n")
     with pytest.raises(ValueError, match=r"members\.csv: not a member table") as refused:
+        write_report(copy, videos=False, progress=False)
+    assert "\n" not in str(refused.value)
+
+
+def test_the_report_shows_fine_tuned_humans_against_their_parents_where_both_played(
+    results, tmp_path
+):
+    assert 'id="finetuned"' not in write_report(results, videos=False, progress=False).read_text()
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy, ignore=shutil.ignore_patterns("report"))
+    played = pd.read_csv(copy / "episodes.csv").assign(robot="front_linear")
+    named = {"passive": "front_linear-default-s0", "scripted": "front_linear-tremor-tuned-s0"}
+    table = write_finetuned(copy, played.replace({"human": named}))  # a shipped pair, as if
+    page = write_report(copy, videos=False, progress=False).read_text()
+    shown = re.search(r'<table id="finetuned">.*?</table>', page, re.S).group(0)
+    assert shown.count("<tr>") == 1 + len(table) == 2
+    assert "front_linear-tremor-tuned-s0" in shown and "front_linear-default-s0" in shown
+    (copy / "finetuned.csv").write_text("robot,human\nfixed\n")
+    with pytest.raises(ValueError, match=r"finetuned\.csv: not a table of fine-tuned") as refused:
         write_report(copy, videos=False, progress=False)
     assert "\n" not in str(refused.value)
 

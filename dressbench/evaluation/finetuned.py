@@ -102,17 +102,17 @@ def finetuned_markdown(table: pd.DataFrame) -> str:
         "|---|---|---|---|---:|---:|---:|---:|---:|---|",
     ]
     for r in table.itertuples():
-        scores = [_change_text(r, "final_arm_progress", "{:.3f}", "{:+.3f}"),
-                  _change_text(r, "max_deformation", "{:.2f}", "{:+.2f}"),
-                  _change_text(r, "success", "{:.0%}", "{:+.0%}")]  # fmt: skip
+        scores = [change_text(r, "final_arm_progress", "{:.3f}", "{:+.3f}"),
+                  change_text(r, "max_deformation", "{:.2f}", "{:+.2f}"),
+                  change_text(r, "success", "{:.0%}", "{:+.0%}")]  # fmt: skip
         lines.append(f"| {r.robot} | {r.profile} | {r.human} | {r.parent} | {r.episodes} "
                      f"| {' | '.join(scores)} | {r.deeper:.2f} [{r.deeper_ci_low:.2f}, "
                      f"{r.deeper_ci_high:.2f}] | {r.verdict} |")  # fmt: skip
     return "\n".join(lines) + "\n"
 
 
-def _change_text(row: object, score: str, value: str, change: str) -> str:
-    """``parent → human, change [low, high]`` of one score of a row."""
+def change_text(row: object, score: str, value: str, change: str) -> str:
+    """``parent → human, change [low, high]`` of one score of a row (Markdown, report)."""
     parent, mine, delta, low, high = (getattr(row, f"{score}{part}") for part in
                                       ("_parent", "", "_change", "_change_ci_low",
                                        "_change_ci_high"))  # fmt: skip

@@ -27,6 +27,7 @@ import pandas as pd
 from ..checks import RESULTS
 from ..files import parse_json, read_untrusted, readable, slug, write_bytes, write_text
 from ..plugins import TYPICAL_PROFILE
+from .finetuned import FINETUNED, change_text
 from .members import MEMBERS
 from .report import rate_text, settings_text, stage_definitions, summary_text
 from .rollouts import SUCCESS_DEPTH, episode_seed
@@ -76,7 +77,8 @@ def write_report(
     if videos:
         clips = _cell_videos(folder, board, meta, workers, progress)
     page = folder / "index.html"
-    sections = {"strategies": strategy_section(results), "members": member_section(results)}
+    sections = {"strategies": strategy_section(results), "members": member_section(results),
+                "finetuned": finetuned_section(results)}  # fmt: skip
     write_text(page, report_html(board, meta, images, clips, **sections))
     return page
 
@@ -146,6 +148,21 @@ def member_section(results: Path) -> dict[str, Any] | None:
     )  # fmt: skip
     header = ["human", "profile", "split", "member", "episodes", "final arm progress (m)",
               "max deformation", *(label for _, label in STAGES)]  # fmt: skip
+    return {"header": header, "rows": rows} if rows else None
+
+
+def finetuned_section(results: Path) -> dict[str, Any] | None:
+    """The fine-tuned humans against their parents (``finetuned.csv``, read as untrusted input)
+    as the page shows them: header and rows as text; None where the results hold no such pair."""
+    rows = _table_rows(
+        results / f"{FINETUNED}.csv", "a table of fine-tuned humans",
+        lambda r: (r.robot, _profile(r), r.human, r.parent, r.episodes,
+                   change_text(r, "final_arm_progress", "{:.3f}", "{:+.3f}"),
+                   change_text(r, "max_deformation", "{:.2f}", "{:+.2f}"),
+                   change_text(r, "success", "{:.0%}", "{:+.0%}"), r.verdict),
+    )  # fmt: skip
+    header = ["robot", "profile", "human", "fine-tuned from", "rollouts",
+              "final arm progress (m)", "max deformation", "past the elbow", "verdict"]  # fmt: skip
     return {"header": header, "rows": rows} if rows else None
 
 
@@ -330,11 +347,13 @@ def report_html(
     clips: dict[tuple[str, str, str], tuple[str | None, str]],
     strategies: dict[str, Any] | None = None,
     members: dict[str, Any] | None = None,
+    finetuned: dict[str, Any] | None = None,
 ) -> str:
     """The whole page as one string (no external resource but the images and videos beside it);
     every value is escaped by the template engine (values come from files of a results folder);
     ``strategies`` is the strategy section (``strategy_section``), shown first; ``members``
-    the family's episodes by member (``member_section``), after the leaderboard."""
+    the family's episodes by member (``member_section``) and ``finetuned`` the fine-tuned
+    humans against their parents (``finetuned_section``), after the leaderboard."""
     import jinja2
 
     depth = float(meta.get("success_depth", SUCCESS_DEPTH))
@@ -369,6 +388,7 @@ def report_html(
         settings=settings_text(board),
         strategies=strategies,
         members=members,
+        finetuned=finetuned,
         header=[(h, "number" if i in numeric else "text") for i, h in enumerate(header)],
         rows=rows,
         definitions=[(label, stages[stage]) for stage, label in STAGES],
@@ -491,6 +511,18 @@ triangle area ratio (stretched / rest) of the episode.</p>
 <p>Each family cell's episodes split by the member each faced: its kind, and the direction of
 its start from the right shoulder (members.md defines the directions). Means ± sample std, the
 interval of the mean in brackets; rates with their 95% Wilson interval.</p>
+{% endif -%}
+{% if finetuned -%}
+<h2>Fine-tuned humans against their parents</h2>
+<div class="scroll"><table id="finetuned"><thead><tr>
+{%- for label in finetuned.header %}<th>{{ label }}</th>{% endfor -%}
+</tr></thead><tbody>
+{%- for row in finetuned.rows %}<tr>{% for value in row %}<td>{{ value }}</td>{% endfor %}</tr>
+{%- endfor %}</tbody></table></div>
+<p>Each human fine-tuned from another, against that parent on the same seeded rollouts (the same
+strategy, profile, start, gown and involuntary motion): the parent's mean → the fine-tuned
+human's, then the mean change over the paired rollouts with its 95% bootstrap interval
+(finetuned.md). The verdict names each change whose interval excludes 0.</p>
 {% endif -%}
 <h2>What success means</h2>
 <dl>{% for label, text in definitions %}<dt>{{ label }}</dt><dd>{{ text }}.</dd>{% endfor %}</dl>
