@@ -16,7 +16,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..files import write_table
-from .groups import TrainedHuman, trained_humans
+from .groups import TrainedHuman, episode_humans
 from .schema import FINETUNED_COLUMNS, FINETUNED_SCORES
 from .statistics import CONFIDENCE, RESAMPLES, bootstrap_ci
 
@@ -37,11 +37,9 @@ def finetuned_table(
     played the same rollout seeds: each score's mean for both, the mean paired change with its
     bootstrap interval, P[the human goes deeper than its parent on the same rollout] (ties
     half), and the verdict: each change whose interval excludes 0, in words (``VERDICT_WORDS``),
-    or "not separated". ``humans`` default: ``trained_humans``."""
+    or "not separated". ``humans`` default: ``episode_humans``."""
     if humans is None:
-        humans = trained_humans(
-            episodes[["human", "robot", "ablation"]].itertuples(index=False, name=None)
-        )
+        humans = episode_humans(episodes)
     rows = []
     for name, human in humans.items():
         if human.parent is None or human.parent == name:
@@ -120,10 +118,15 @@ def change_text(row: object, score: str, value: str, change: str) -> str:
             f"[{change.format(low)}, {change.format(high)}]")  # fmt: skip
 
 
-def write_finetuned(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
+def write_finetuned(
+    out: Path,
+    episodes: pd.DataFrame,
+    seed: int = 0,
+    humans: Mapping[str, TrainedHuman] | None = None,
+) -> pd.DataFrame:
     """Write finetuned.csv/.md into ``out`` where the episodes hold a fine-tuned human and its
     parent on the same rollouts (and remove an earlier evaluation's otherwise); returns the
-    table."""
-    table = finetuned_table(episodes, seed=seed)
+    table. ``humans`` default: ``episode_humans``."""
+    table = finetuned_table(episodes, humans, seed)
     write_table(out, FINETUNED, table, finetuned_markdown)
     return table

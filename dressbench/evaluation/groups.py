@@ -6,10 +6,13 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..plugins import TYPICAL_PROFILE, human_plugins
 from ..policy_file import PolicyFileError, load_policy
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 @dataclass(frozen=True)
@@ -61,6 +64,14 @@ _NAME = re.compile(r"(?P<recipe>.+?)-s(?P<seed>\d+)(?P<suffixes>-.+)?")
 def _strip(name: str, prefix: str) -> str:
     """``name`` without a leading ``prefix-``."""
     return name.removeprefix(f"{prefix}-")
+
+
+def episode_humans(episodes: pd.DataFrame) -> dict[str, TrainedHuman]:
+    """``trained_humans`` of an episodes table (as in episodes.csv): each policy file it names
+    read once."""
+    return trained_humans(
+        episodes[["human", "robot", "ablation"]].itertuples(index=False, name=None)
+    )
 
 
 def trained_humans(humans: Iterable[tuple[str, str, str]]) -> dict[str, TrainedHuman]:

@@ -37,6 +37,7 @@ from .cells import (
     warn_losing_duplicates,
 )
 from .finetuned import write_finetuned
+from .groups import episode_humans
 from .members import write_members
 from .ownership import check_owned, claim
 from .remote import ray_tasks
@@ -304,9 +305,10 @@ def evaluate_cells(
         "versions": versions(),
         "git_commit": git_commit(),
     }
-    strategies = write_strategies(out, table, seed)  # before the summary, whose README lists them
+    humans = episode_humans(table)  # each policy file read once, for both tables of trained humans
+    strategies = write_strategies(out, table, seed, humans)  # before the summary, which lists them
     write_members(out, table, seed)
-    write_finetuned(out, table, seed)
+    write_finetuned(out, table, seed, humans)
     write_summary(out, curves, board, meta, success_depth)
     return Evaluated(table, board, strategies)
 

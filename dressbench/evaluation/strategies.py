@@ -25,7 +25,7 @@ import pandas as pd
 from ..files import write_csv, write_png, write_text
 from .bootstrap import Draws, improvement, observed, percentile_interval, two_level_draws
 from .docblock import DocBlock
-from .groups import TrainedHuman, trained_humans
+from .groups import TrainedHuman, episode_humans
 from .plots import profiles_figure, strategies_figure
 from .schema import (
     COMPARED_COLUMNS,
@@ -51,7 +51,7 @@ def scored_episodes(
     every strategy), with the ``recipe`` of their group and their ``training_seed``; ``humans``
     default: ``trained_humans``."""
     if humans is None:
-        humans = trained_humans(_named(episodes))
+        humans = episode_humans(episodes)
     known = episodes["human"].map(humans)
     meant = known.map(lambda h: getattr(h, "robot", ""))  # None: a generalist, meant for any
     mine = known.notna() & (meant.isna() | (meant == episodes["robot"]))
@@ -163,11 +163,6 @@ def improvement_table(
     return pd.DataFrame(rows, columns=IMPROVEMENT_COLUMNS)
 
 
-def _named(episodes: pd.DataFrame) -> Iterator[tuple[str, str, str]]:
-    """Each episode's ``(human, robot, ablation)``, as ``trained_humans`` takes them."""
-    return episodes[["human", "robot", "ablation"]].itertuples(index=False, name=None)
-
-
 def _strategies(scored: pd.DataFrame) -> Iterator[tuple[tuple[Any, ...], list[pd.DataFrame]]]:
     """Each strategy's key and its humans' episodes, one frame per human, by training seed."""
     for key, group in scored.groupby(STRATEGY_KEY, sort=True):
@@ -254,11 +249,17 @@ def score_text(row: Any, score: str, centre: str, number: str) -> str:
     return f"{number.format(value)}{spread} [{number.format(low)}, {number.format(high)}]"
 
 
-def write_strategies(out: Path, episodes: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
+def write_strategies(
+    out: Path,
+    episodes: pd.DataFrame,
+    seed: int = 0,
+    humans: Mapping[str, TrainedHuman] | None = None,
+) -> pd.DataFrame:
     """Write strategies.csv/.md, improvement.csv/.md and strategies.png (none without a trained
     human), and profiles.png where the table holds more than one capability profile, into
-    ``out``; returns the strategy table."""
-    humans = trained_humans(_named(episodes))  # each policy file read once
+    ``out``; returns the strategy table. ``humans`` default: ``episode_humans``."""
+    if humans is None:
+        humans = episode_humans(episodes)  # each policy file read once
     table = strategy_table(episodes, humans, seed)
     pairs = improvement_table(episodes, humans, seed)
     write_csv(out / "strategies.csv", table)
