@@ -49,7 +49,7 @@ def scored_episodes(
 ) -> pd.DataFrame:
     """The episodes of trained humans on the strategy they were trained for (a generalist's on
     every strategy), with the ``recipe`` of their group and their ``training_seed``; ``humans``
-    default: ``trained_humans``."""
+    default: ``episode_humans``."""
     if humans is None:
         humans = episode_humans(episodes)
     known = episodes["human"].map(humans)
